@@ -1,0 +1,78 @@
+#include "device_config.h"
+
+#include <cstdlib>
+#include <sstream>
+
+#include "api_error.h"
+
+namespace obvh::api {
+namespace {
+
+std::string trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t\n\r");
+  if (b == std::string::npos) return {};
+  const size_t e = s.find_last_not_of(" \t\n\r");
+  return s.substr(b, e - b + 1);
+}
+
+int parseInt(const std::string& name, const std::string& value, int minValue, int maxValue) {
+  char* end = nullptr;
+  const long v = std::strtol(value.c_str(), &end, 10);
+  if (value.empty() || *end != '\0' || v < minValue || v > maxValue)
+    fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for device config token '" + name + "'");
+  return int(v);
+}
+
+}  // namespace
+
+DeviceConfig parseDeviceConfig(const std::string& text) {
+  DeviceConfig config;
+  std::stringstream stream(text);
+  std::string token;
+  while (std::getline(stream, token, ',')) {
+    token = trim(token);
+    if (token.empty()) continue;
+    const size_t eq = token.find('=');
+    const std::string name = trim(token.substr(0, eq));
+    const std::string value = eq == std::string::npos ? std::string() : trim(token.substr(eq + 1));
+    if (name == "threads") {
+      config.threads = parseInt(name, value, 0, 4096);
+    } else if (name == "verbose") {
+      config.verbose = parseInt(name, value, 0, 100);
+    } else if (name == "accel") {
+      // Embree's own accel values name its internal structures (e.g. "bvh4.triangle4"); those
+      // are ignored as Embree ignores what it does not know. obvh's layouts are plain names.
+      if (value == "bvh2") {
+        config.accel = AccelLayout::Bvh2;
+      } else if (value == "bvh4" || value == "bvh8" || value == "obb" || value == "hybrid") {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=" + value + " is not implemented by obvh yet (available: bvh2)");
+      } else if (value.find('.') == std::string::npos && value != "default") {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2)");
+      }
+    } else if (name == "intersector") {
+      if (value == "watertight") {
+        config.intersector = IntersectorMode::Watertight;
+      } else if (value == "fast") {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "intersector=fast is not implemented by obvh yet (available: watertight)");
+      } else {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown intersector '" + value + "' (available: watertight)");
+      }
+    } else if (name == "build_bins") {
+      config.buildBins = parseInt(name, value, 2, 256);
+    } else if (name == "max_leaf_size") {
+      config.maxLeafSize = parseInt(name, value, 1, 64);
+    }
+  }
+  return config;
+}
+
+std::string effectiveConfigString(const char* config) {
+  std::string text = config ? config : "";
+  if (const char* env = std::getenv("OBVH_CONFIG")) {
+    if (!text.empty()) text += ",";
+    text += env;
+  }
+  return text;
+}
+
+}  // namespace obvh::api

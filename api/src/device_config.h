@@ -1,0 +1,27 @@
+// Parses rtcNewDevice's configuration string (Embree tokens plus obvh's own).
+#pragma once
+
+#include <string>
+
+namespace obvh::api {
+
+enum class AccelLayout { Bvh2 };
+enum class IntersectorMode { Watertight };
+
+struct DeviceConfig {
+  int threads = 0;  // 0: TBB's default
+  int verbose = 0;
+  AccelLayout accel = AccelLayout::Bvh2;
+  IntersectorMode intersector = IntersectorMode::Watertight;
+  int buildBins = 32;
+  int maxLeafSize = 4;
+};
+
+// Tokens are "name=value" separated by commas. Like Embree, names obvh does not know are ignored;
+// a known name with a value obvh cannot honour raises RTC_ERROR_INVALID_ARGUMENT (via ApiError).
+DeviceConfig parseDeviceConfig(const std::string& text);
+
+// The config string plus the OBVH_CONFIG environment variable, which applies to every device.
+std::string effectiveConfigString(const char* config);
+
+}  // namespace obvh::api

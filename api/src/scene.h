@@ -1,0 +1,63 @@
+// RTCScene: attached geometries, commit (which builds the backend's acceleration structure), queries.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <mutex>
+#include <vector>
+
+#include "api_error.h"
+#include "device.h"
+#include "geometry.h"
+#include "ref_counted.h"
+#include "scene/triangle_scene.h"
+
+namespace obvh::api {
+
+class Scene : public RefCounted {
+ public:
+  explicit Scene(Device* device) : device_(device) {}
+
+  Device* device() const { return device_.get(); }
+
+  unsigned attach(Geometry* geometry);
+  void attachById(Geometry* geometry, unsigned geomID);
+  void detach(unsigned geomID);
+  Geometry* geometry(unsigned geomID);
+
+  void setFlags(RTCSceneFlags flags);
+  RTCSceneFlags flags() const { return flags_; }
+  void setBuildQuality(RTCBuildQuality quality);
+  void setProgressMonitor(RTCProgressMonitorFunction fn, void* userPtr);
+
+  void commit();
+  RTCBounds bounds() const;
+
+  // Throws INVALID_OPERATION when the scene changed since its last commit.
+  void requireCommitted() const {
+    if (modified_.load(std::memory_order_relaxed)) fail(RTC_ERROR_INVALID_OPERATION, "scene not committed");
+  }
+  const TriangleScene& accel() const { return accel_; }
+
+  static Scene* from(RTCScene handle) { return reinterpret_cast<Scene*>(handle); }
+  RTCScene handle() { return reinterpret_cast<RTCScene>(this); }
+
+ private:
+  bool needsRebuild() const;
+  void rebuild();
+
+  Ref<Device> device_;
+  std::mutex mutex_;
+  std::vector<Ref<Geometry>> geometries_;        // index is the geomID; empty slots are null
+  std::vector<uint64_t> builtModificationCounters_;
+  RTCSceneFlags flags_ = RTC_SCENE_FLAG_NONE;
+  RTCBuildQuality quality_ = RTC_BUILD_QUALITY_MEDIUM;
+  RTCProgressMonitorFunction progress_ = nullptr;
+  void* progressUserPtr_ = nullptr;
+  std::atomic<bool> modified_{true};
+  TriangleScene accel_;
+  size_t reportedMemory_ = 0;
+};
+
+}  // namespace obvh::api

@@ -1,0 +1,15 @@
+// Binned surface-area-heuristic builder for a binary BVH (parallel with TBB).
+#pragma once
+
+#include <vector>
+
+#include "build/build_options.h"
+#include "build/prim_ref.h"
+#include "bvh/binary_bvh.h"
+
+namespace obvh {
+
+// Reorders refs; the returned tree's primIndices hold PrimRef::index values in leaf order.
+BinaryBvh buildBinnedSah(std::vector<PrimRef>& refs, const BuildOptions& options);
+
+}  // namespace obvh

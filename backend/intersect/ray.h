@@ -1,0 +1,27 @@
+// The backend's own ray and hit records; the API layer converts Embree's structs to and from them.
+#pragma once
+
+#include <cstdint>
+
+#include "math/vec3.h"
+
+namespace obvh {
+
+constexpr uint32_t kInvalidId = 0xFFFFFFFFu;
+
+struct Ray {
+  Vec3f org;
+  Vec3f dir;
+  float tnear = 0.f;  // hits must lie strictly beyond tnear
+  float tfar = 0.f;   // hits may lie at tfar; shrinks to the closest hit found so far
+  uint32_t mask = 0xFFFFFFFFu;
+};
+
+struct Hit {
+  Vec3f Ng;  // unnormalized, in Embree's orientation
+  float u = 0.f, v = 0.f;
+  uint32_t geomID = kInvalidId;
+  uint32_t primID = kInvalidId;
+};
+
+}  // namespace obvh

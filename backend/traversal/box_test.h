@@ -1,0 +1,42 @@
+// Slab test of one ray against one axis-aligned box, conservative in the sense of Ize (2013):
+// the far distance is scaled up by 1 + 2*gamma(3) so that rounding never culls a box that the
+// exact ray enters, which the watertight triangle test relies on.
+#pragma once
+
+#include <cmath>
+
+#include "intersect/ray.h"
+
+namespace obvh {
+
+constexpr float kUnitRoundoff = 0x1p-24f;
+constexpr float gammaBound(int n) { return (float(n) * kUnitRoundoff) / (1.f - float(n) * kUnitRoundoff); }
+constexpr float kConservativeFarScale = 1.f + 2.f * gammaBound(3);
+
+// Per-ray constants of the slab test.
+struct BoxRay {
+  Vec3f org;
+  Vec3f invDir;
+
+  explicit BoxRay(const Ray& ray) : org(ray.org) {
+    // Zero components are replaced by a tiny value of the same sign, so 0 * inf never yields NaN.
+    for (int axis = 0; axis < 3; ++axis) {
+      float d = ray.dir[axis];
+      if (std::fabs(d) < 1e-30f) d = std::copysign(1e-30f, d);
+      invDir[axis] = 1.f / d;
+    }
+  }
+};
+
+// Returns the entry distance, or +inf when the box is missed within [tnear, tfar].
+inline float intersectBox(const BoxRay& r, const Box3f& box, float tnear, float tfar) {
+  const float x0 = (box.lower.x - r.org.x) * r.invDir.x, x1 = (box.upper.x - r.org.x) * r.invDir.x;
+  const float y0 = (box.lower.y - r.org.y) * r.invDir.y, y1 = (box.upper.y - r.org.y) * r.invDir.y;
+  const float z0 = (box.lower.z - r.org.z) * r.invDir.z, z1 = (box.upper.z - r.org.z) * r.invDir.z;
+  // A NaN anywhere (a NaN ray) makes the final comparison false, so such rays enter no box.
+  const float tmin = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), tnear));
+  const float tmax = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1)) * kConservativeFarScale;
+  return tmin <= std::min(tmax, tfar) ? tmin : std::numeric_limits<float>::infinity();
+}
+
+}  // namespace obvh

@@ -1,0 +1,292 @@
+// obvh_bench: commits one scene to Debian's Embree and to obvh in the same process, traces the same
+// rays through both, prints build time, Mrays/s (medians) and how many answers differ, and writes
+// both libraries' images.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "hit_compare.h"
+#include "image_io.h"
+#include "mesh_loader.h"
+#include "ray_generation.h"
+#include "rtc_library.h"
+#include "scene_data.h"
+
+using namespace obvh::tools;
+
+namespace {
+
+constexpr const char* kDefaultScenePath = "/usr/share/glmark2/models/bunny.obj";
+
+struct Options {
+  std::string scene = kDefaultScenePath;
+  int width = 1024;
+  int height = 768;
+  int runs = 5;
+  size_t randomRays = 1 << 20;
+  std::string outDir = "out";
+};
+
+[[noreturn]] void usage(const char* error) {
+  if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
+  std::fprintf(stderr,
+               "usage: obvh_bench [--scene FILE.obj] [--width W] [--height H] [--runs N] [--random-rays N] "
+               "[--out DIR]\n"
+               "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
+               "  default scene: %s (Debian package glmark2-data)\n",
+               kDefaultScenePath);
+  std::exit(error ? 2 : 0);
+}
+
+long parsePositive(const char* flag, const char* value, long maxValue) {
+  char* end = nullptr;
+  const long v = std::strtol(value, &end, 10);
+  if (*value == '\0' || *end != '\0' || v <= 0 || v > maxValue)
+    usage((std::string("invalid value '") + value + "' for " + flag).c_str());
+  return v;
+}
+
+Options parseOptions(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") usage(nullptr);
+    if (i + 1 >= argc) usage(("missing value for " + arg).c_str());
+    const char* value = argv[++i];
+    if (arg == "--scene") o.scene = value;
+    else if (arg == "--width") o.width = int(parsePositive("--width", value, 16384));
+    else if (arg == "--height") o.height = int(parsePositive("--height", value, 16384));
+    else if (arg == "--runs") o.runs = int(parsePositive("--runs", value, 1000));
+    else if (arg == "--random-rays") o.randomRays = size_t(parsePositive("--random-rays", value, 1L << 28));
+    else if (arg == "--out") o.outDir = value;
+    else usage(("unknown option " + arg).c_str());
+  }
+  return o;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+template <typename F>
+double millisecondsOf(F&& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+struct LibraryRun {
+  const RtcLibrary* lib = nullptr;
+  RTCDevice device = nullptr;
+  std::unique_ptr<CommittedScene> scene;
+  double buildMs = 0;
+  double primaryMrays = 0, randomMrays = 0, shadowMrays = 0;
+  std::vector<RTCRayHit> primary, random;
+  std::vector<RTCRay> shadow;
+};
+
+std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
+  std::vector<RTCRayHit> out(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    out[i].ray = rays[i];
+    out[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    out[i].hit.primID = RTC_INVALID_GEOMETRY_ID;
+    out[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  }
+  return out;
+}
+
+// Traces rays with rtcIntersect1 on all cores; returns Mrays/s (median over runs) and the answers.
+double traceIntersect(LibraryRun& run, const std::vector<RTCRay>& rays, int runs, std::vector<RTCRayHit>& result) {
+  std::vector<double> rates;
+  for (int r = 0; r < runs; ++r) {
+    std::vector<RTCRayHit> work = asRayHits(rays);
+    const double ms = millisecondsOf([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (size_t i = b.begin(); i < b.end(); ++i) run.lib->rtcIntersect1(run.scene->scene(), &context, &work[i]);
+      });
+    });
+    rates.push_back(double(rays.size()) / (ms * 1e3));
+    if (r == 0) result = std::move(work);
+  }
+  return median(rates);
+}
+
+double traceOccluded(LibraryRun& run, const std::vector<RTCRay>& rays, int runs, std::vector<RTCRay>& result) {
+  std::vector<double> rates;
+  for (int r = 0; r < runs; ++r) {
+    std::vector<RTCRay> work = rays;
+    const double ms = millisecondsOf([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (size_t i = b.begin(); i < b.end(); ++i) run.lib->rtcOccluded1(run.scene->scene(), &context, &work[i]);
+      });
+    });
+    rates.push_back(double(rays.size()) / (ms * 1e3));
+    if (r == 0) result = std::move(work);
+  }
+  return median(rates);
+}
+
+struct MismatchCount {
+  size_t rays = 0, differing = 0, ambiguous = 0, mismatched = 0;
+  std::string firstMismatch;
+};
+
+MismatchCount compareIntersections(const SceneData& scene, const std::vector<RTCRay>& rays,
+                                   const std::vector<RTCRayHit>& reference, const std::vector<RTCRayHit>& candidate) {
+  MismatchCount count;
+  count.rays = rays.size();
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Comparison c = compareHits(scene, rays[i], toHitRecord(reference[i]), toHitRecord(candidate[i]));
+    if (c.verdict == Verdict::Equal) continue;
+    ++count.differing;
+    if (c.verdict == Verdict::Ambiguous) {
+      ++count.ambiguous;
+    } else {
+      ++count.mismatched;
+      if (count.firstMismatch.empty()) count.firstMismatch = describeRay(rays[i]) + ": " + c.reason;
+    }
+  }
+  return count;
+}
+
+MismatchCount compareOcclusions(const std::vector<RTCRay>& reference, const std::vector<RTCRay>& candidate) {
+  MismatchCount count;
+  count.rays = reference.size();
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const bool a = reference[i].tfar == -std::numeric_limits<float>::infinity();
+    const bool b = candidate[i].tfar == -std::numeric_limits<float>::infinity();
+    if (a != b) ++count.differing;
+  }
+  return count;
+}
+
+std::vector<float> shade(const std::vector<RTCRayHit>& hits, const std::vector<RTCRay>& shadow) {
+  std::vector<float> rgb(hits.size() * 3);
+  for (size_t i = 0; i < hits.size(); ++i) {
+    const RTCRayHit& h = hits[i];
+    float c[3] = {0.08f, 0.1f, 0.16f};
+    if (h.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+      const float nl = std::sqrt(h.hit.Ng_x * h.hit.Ng_x + h.hit.Ng_y * h.hit.Ng_y + h.hit.Ng_z * h.hit.Ng_z);
+      const float dl = std::sqrt(h.ray.dir_x * h.ray.dir_x + h.ray.dir_y * h.ray.dir_y + h.ray.dir_z * h.ray.dir_z);
+      const float cosine = std::fabs(h.hit.Ng_x * h.ray.dir_x + h.hit.Ng_y * h.ray.dir_y + h.hit.Ng_z * h.ray.dir_z) /
+                           std::max(nl * dl, 1e-30f);
+      const bool inShadow = shadow[i].tfar == -std::numeric_limits<float>::infinity();
+      const float value = (0.15f + 0.85f * cosine) * (inShadow ? 0.45f : 1.f);
+      c[0] = c[1] = c[2] = value;
+    }
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = c[k];
+  }
+  return rgb;
+}
+
+void printRow(const char* name, double embree, double obvh, bool lowerIsBetter) {
+  const double speed = lowerIsBetter ? embree / obvh : obvh / embree;
+  std::printf("  %-26s %12.2f %12.2f %10.2fx\n", name, embree, obvh, speed);
+}
+
+void printCount(const char* name, const MismatchCount& c) {
+  std::printf("  %-18s %9zu rays: %zu differ, %zu ambiguous (proved in double precision), %zu mismatches\n", name,
+              c.rays, c.differing, c.ambiguous, c.mismatched);
+  if (!c.firstMismatch.empty()) std::printf("    first mismatch: %s\n", c.firstMismatch.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options options = parseOptions(argc, argv);
+  try {
+    const SceneData scene = loadObj(options.scene);
+    std::string error;
+    auto embree = RtcLibrary::open(referenceEmbreePath(), "embree", error);
+    if (!embree) throw std::runtime_error(error + " (install Debian's libembree-dev)");
+    auto obvh = RtcLibrary::open(obvhDropInPath(), "obvh", error);
+    if (!obvh) throw std::runtime_error(error + " (build obvh first)");
+
+    LibraryRun runs[2];
+    runs[0].lib = embree.get();
+    runs[1].lib = obvh.get();
+    for (LibraryRun& run : runs) {
+      run.device = run.lib->rtcNewDevice(nullptr);
+      if (!run.device) throw std::runtime_error(run.lib->label + ": rtcNewDevice failed");
+      std::vector<double> buildTimes;
+      for (int r = 0; r < options.runs; ++r) {
+        run.scene.reset();
+        buildTimes.push_back(millisecondsOf([&] { run.scene = std::make_unique<CommittedScene>(*run.lib, run.device, scene); }));
+        if (run.lib->rtcGetDeviceError(run.device) != RTC_ERROR_NONE)
+          throw std::runtime_error(run.lib->label + ": committing the scene failed");
+      }
+      run.buildMs = median(buildTimes);
+    }
+
+    RTCBounds bounds;
+    runs[0].lib->rtcGetSceneBounds(runs[0].scene->scene(), &bounds);
+    const SceneBox box{{bounds.lower_x, bounds.lower_y, bounds.lower_z}, {bounds.upper_x, bounds.upper_y, bounds.upper_z}};
+    const std::vector<RTCRay> primaryRays = perspectiveRays(box, options.width, options.height);
+    const std::vector<RTCRay> random = randomRays(box, options.randomRays, 12345u);
+    for (LibraryRun& run : runs) {
+      run.primaryMrays = traceIntersect(run, primaryRays, options.runs, run.primary);
+      run.randomMrays = traceIntersect(run, random, options.runs, run.random);
+    }
+    // Shadow rays start from Embree's primary hits so both libraries answer the very same rays.
+    std::vector<float> hitT(primaryRays.size());
+    for (size_t i = 0; i < hitT.size(); ++i)
+      hitT[i] = runs[0].primary[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? runs[0].primary[i].ray.tfar
+                                                                          : std::numeric_limits<float>::infinity();
+    const float extent = std::max({box.upper[0] - box.lower[0], box.upper[1] - box.lower[1], box.upper[2] - box.lower[2]});
+    const float light[3] = {box.upper[0] + extent, box.upper[1] + 2.f * extent, box.upper[2] + extent};
+    const std::vector<RTCRay> shadow = shadowRays(primaryRays, hitT, light);
+    for (LibraryRun& run : runs) run.shadowMrays = traceOccluded(run, shadow, options.runs, run.shadow);
+
+    std::printf("obvh_bench: %s, %zu primitives, %dx%d pixels, median of %d runs, %d hardware threads\n",
+                scene.name.c_str(), scene.primitiveCount(), options.width, options.height, options.runs,
+                int(std::thread::hardware_concurrency()));
+    std::printf("  %-26s %12s %12s %11s\n", "", "embree", "obvh", "obvh speed");
+    printRow("build ms", runs[0].buildMs, runs[1].buildMs, true);
+    printRow("primary Mrays/s", runs[0].primaryMrays, runs[1].primaryMrays, false);
+    printRow("random (incoherent) Mrays/s", runs[0].randomMrays, runs[1].randomMrays, false);
+    printRow("shadow Mrays/s", runs[0].shadowMrays, runs[1].shadowMrays, false);
+
+    const MismatchCount primaryCount = compareIntersections(scene, primaryRays, runs[0].primary, runs[1].primary);
+    const MismatchCount randomCount = compareIntersections(scene, random, runs[0].random, runs[1].random);
+    const MismatchCount shadowCount = compareOcclusions(runs[0].shadow, runs[1].shadow);
+    std::printf("answers (embree vs obvh):\n");
+    printCount("primary", primaryCount);
+    printCount("random", randomCount);
+    std::printf("  %-18s %9zu rays: %zu occlusion answers differ\n", "shadow", shadowCount.rays, shadowCount.differing);
+
+    std::filesystem::create_directories(options.outDir);
+    const std::string stem = options.outDir + "/" + scene.name.substr(0, scene.name.find_last_of('.'));
+    writeImage(stem + "_embree.png", options.width, options.height, shade(runs[0].primary, runs[0].shadow));
+    writeImage(stem + "_obvh.png", options.width, options.height, shade(runs[1].primary, runs[1].shadow));
+    std::printf("images: %s_embree.png %s_obvh.png\n", stem.c_str(), stem.c_str());
+
+    for (LibraryRun& run : runs) {
+      run.scene.reset();
+      run.lib->rtcReleaseDevice(run.device);
+    }
+    const bool clean = primaryCount.mismatched == 0 && randomCount.mismatched == 0;
+    if (!clean) std::printf("obvh_bench: unexplained mismatches found\n");
+    return clean ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "obvh_bench: %s\n", e.what());
+    return 2;
+  }
+}

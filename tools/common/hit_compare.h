@@ -1,0 +1,44 @@
+// Compares two libraries' answers for one ray. Different answers are accepted only when a
+// double-precision intersection shows the ray is ambiguous: it passes within a few ulps of a
+// primitive's edge or vertex, or the competing hits lie at the same distance.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <string>
+
+#include "scene_data.h"
+
+namespace obvh::tools {
+
+struct CompareTolerance {
+  float tRelative = 1e-5f;
+  float uvAbsolute = 1e-4f;
+  float normalRelative = 1e-5f;
+  // Distance to an edge, in ulps of the scene's coordinate magnitude, below which a hit is ambiguous.
+  double edgeUlps = 64.0;
+};
+
+enum class Verdict { Equal, Ambiguous, Mismatch };
+
+struct Comparison {
+  Verdict verdict = Verdict::Equal;
+  std::string reason;  // why the answers differ (empty when equal)
+};
+
+// ray: the query as it was before tracing. reference and candidate: the two libraries' hits.
+Comparison compareHits(const SceneData& scene, const RTCRay& ray, const HitRecord& reference,
+                       const HitRecord& candidate, const CompareTolerance& tolerance = {});
+
+// Exact-ish intersection of ray with one primitive in double precision (for reports and tests).
+struct ExactHit {
+  bool hit = false;        // inside the primitive and within (tnear, tfar]
+  double t = 0.0;
+  double u = 0.0, v = 0.0;    // in Embree's convention (quads: the quad's own parameterisation)
+  double edgeDistance = 0.0;  // world-space distance of the hit point to the nearest boundary edge
+};
+ExactHit intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID);
+
+std::string describeRay(const RTCRay& ray);  // hex floats, so a failure can be replayed exactly
+
+}  // namespace obvh::tools

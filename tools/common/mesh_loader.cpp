@@ -1,0 +1,37 @@
+#include "mesh_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <fstream>
+#include <stdexcept>
+
+namespace obvh::tools {
+
+SceneData loadObj(const std::string& path) {
+  if (!std::ifstream(path).good()) throw std::runtime_error("cannot open mesh file '" + path + "'");
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config))
+    throw std::runtime_error("cannot parse OBJ '" + path + "': " + reader.Error());
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  if (attrib.vertices.empty()) throw std::runtime_error("OBJ '" + path + "' has no vertices");
+
+  SceneData scene;
+  scene.name = path.substr(path.find_last_of('/') + 1);
+  MeshData mesh;
+  mesh.vertices.assign(attrib.vertices.begin(), attrib.vertices.end());
+  const size_t vertexCount = mesh.vertexCount();
+  for (const tinyobj::shape_t& shape : reader.GetShapes())
+    for (const tinyobj::index_t& index : shape.mesh.indices) {
+      if (index.vertex_index < 0 || size_t(index.vertex_index) >= vertexCount)
+        throw std::runtime_error("OBJ '" + path + "' references a vertex that does not exist");
+      mesh.indices.push_back(uint32_t(index.vertex_index));
+    }
+  if (mesh.indices.empty()) throw std::runtime_error("OBJ '" + path + "' has no faces");
+  scene.meshes.push_back(std::move(mesh));
+  return scene;
+}
+
+}  // namespace obvh::tools

@@ -1,0 +1,13 @@
+// Loads triangle meshes from files (OBJ through tinyobjloader) into a SceneData.
+#pragma once
+
+#include <string>
+
+#include "scene_data.h"
+
+namespace obvh::tools {
+
+// Throws std::runtime_error with a readable message when the file is missing or malformed.
+SceneData loadObj(const std::string& path);
+
+}  // namespace obvh::tools

@@ -1,0 +1,36 @@
+#include "rtc_library.h"
+
+#include <dlfcn.h>
+
+namespace obvh::tools {
+
+RtcLibrary::~RtcLibrary() {
+  if (handle_) dlclose(handle_);
+}
+
+std::unique_ptr<RtcLibrary> RtcLibrary::open(const std::string& path, const std::string& label, std::string& error) {
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+  if (!handle) {
+    const char* why = dlerror();
+    error = "cannot load " + path + ": " + (why ? why : "unknown error");
+    return nullptr;
+  }
+  auto lib = std::make_unique<RtcLibrary>();
+  lib->handle_ = handle;
+  lib->path = path;
+  lib->label = label;
+#define OBVH_LOAD_POINTER(name)                                                        \
+  lib->name = reinterpret_cast<decltype(&::name)>(dlsym(handle, #name));               \
+  if (!lib->name) {                                                                    \
+    error = path + " does not export " #name;                                         \
+    return nullptr;                                                                    \
+  }
+  OBVH_RTC_FUNCTIONS(OBVH_LOAD_POINTER)
+#undef OBVH_LOAD_POINTER
+  return lib;
+}
+
+std::string referenceEmbreePath() { return OBVH_REFERENCE_EMBREE_PATH; }
+std::string obvhDropInPath() { return OBVH_DROPIN_PATH; }
+
+}  // namespace obvh::tools

@@ -1,0 +1,75 @@
+#include "scene_data.h"
+
+#include <cstring>
+#include <stdexcept>
+
+namespace obvh::tools {
+
+size_t SceneData::primitiveCount() const {
+  size_t n = 0;
+  for (const MeshData& m : meshes) n += m.primitiveCount();
+  return n;
+}
+
+CommittedScene::CommittedScene(const RtcLibrary& lib, RTCDevice device, const SceneData& data, RTCSceneFlags flags,
+                               RTCBuildQuality quality)
+    : lib_(lib) {
+  scene_ = lib.rtcNewScene(device);
+  if (!scene_) throw std::runtime_error(lib.label + ": rtcNewScene failed");
+  lib.rtcSetSceneFlags(scene_, flags);
+  lib.rtcSetSceneBuildQuality(scene_, quality);
+  for (const MeshData& mesh : data.meshes) {
+    RTCGeometry g = lib.rtcNewGeometry(device, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!g) throw std::runtime_error(lib.label + ": rtcNewGeometry failed");
+    // Library-owned buffers: both libraries get their own copy, so neither sees the other's data.
+    auto* v = static_cast<float*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), mesh.vertexCount()));
+    auto* i = static_cast<uint32_t*>(lib.rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+        (mesh.quads ? 4 : 3) * sizeof(uint32_t), mesh.primitiveCount()));
+    if (!v || !i) throw std::runtime_error(lib.label + ": rtcSetNewGeometryBuffer failed");
+    std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
+    std::memcpy(i, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    lib.rtcSetGeometryMask(g, mesh.mask);
+    if (!mesh.enabled) lib.rtcDisableGeometry(g);
+    lib.rtcCommitGeometry(g);
+    lib.rtcAttachGeometry(scene_, g);
+    geometries_.push_back(g);
+  }
+  lib.rtcCommitScene(scene_);
+}
+
+void CommittedScene::recommit(const SceneData& data) {
+  for (size_t id = 0; id < geometries_.size(); ++id) {
+    const MeshData& mesh = data.meshes.at(id);
+    RTCGeometry g = geometries_[id];
+    auto* v = static_cast<float*>(lib_.rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0));
+    std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
+    lib_.rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
+    lib_.rtcSetGeometryMask(g, mesh.mask);
+    if (mesh.enabled) lib_.rtcEnableGeometry(g); else lib_.rtcDisableGeometry(g);
+    lib_.rtcCommitGeometry(g);
+  }
+  lib_.rtcCommitScene(scene_);
+}
+
+CommittedScene::~CommittedScene() {
+  for (RTCGeometry g : geometries_) lib_.rtcReleaseGeometry(g);
+  if (scene_) lib_.rtcReleaseScene(scene_);
+}
+
+HitRecord toHitRecord(const RTCRayHit& rayhit) {
+  HitRecord h;
+  h.geomID = rayhit.hit.geomID;
+  if (!h.hit()) return h;
+  h.primID = rayhit.hit.primID;
+  h.t = rayhit.ray.tfar;
+  h.u = rayhit.hit.u;
+  h.v = rayhit.hit.v;
+  h.Ng[0] = rayhit.hit.Ng_x;
+  h.Ng[1] = rayhit.hit.Ng_y;
+  h.Ng[2] = rayhit.hit.Ng_z;
+  return h;
+}
+
+}  // namespace obvh::tools
