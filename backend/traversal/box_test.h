@@ -17,19 +17,39 @@ constexpr float kConservativeFarScale = 1.f + 2.f * gammaBound(3);
 struct BoxRay {
   Vec3f org;
   Vec3f invDir;
+  Vec3f dir;
+  bool hasZeroComponent = false;
 
-  explicit BoxRay(const Ray& ray) : org(ray.org) {
-    // Zero components are replaced by a tiny value of the same sign, so 0 * inf never yields NaN.
+  explicit BoxRay(const Ray& ray) : org(ray.org), dir(ray.dir) {
     for (int axis = 0; axis < 3; ++axis) {
-      float d = ray.dir[axis];
-      if (std::fabs(d) < 1e-30f) d = std::copysign(1e-30f, d);
-      invDir[axis] = 1.f / d;
+      if (ray.dir[axis] == 0.f) hasZeroComponent = true;
+      invDir[axis] = 1.f / ray.dir[axis];
     }
   }
 };
 
+// Rays with a zero direction component never move along that axis: they are inside that slab for
+// all t when the origin is within [lower, upper] (inclusive) and nowhere otherwise. Handling this
+// exactly keeps rays that run inside a box face consistent with the triangle test.
+inline float intersectBoxWithZeroComponents(const BoxRay& r, const Box3f& box, float tnear, float tfar) {
+  float tmin = tnear, tmax = std::numeric_limits<float>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (r.dir[axis] == 0.f) {
+      if (!(r.org[axis] >= box.lower[axis] && r.org[axis] <= box.upper[axis])) return std::numeric_limits<float>::infinity();
+      continue;
+    }
+    const float t0 = (box.lower[axis] - r.org[axis]) * r.invDir[axis];
+    const float t1 = (box.upper[axis] - r.org[axis]) * r.invDir[axis];
+    if (std::isnan(t0) || std::isnan(t1)) return std::numeric_limits<float>::infinity();
+    tmin = std::max(tmin, std::min(t0, t1));
+    tmax = std::min(tmax, std::max(t0, t1));
+  }
+  return tmin <= std::min(tmax * kConservativeFarScale, tfar) ? tmin : std::numeric_limits<float>::infinity();
+}
+
 // Returns the entry distance, or +inf when the box is missed within [tnear, tfar].
 inline float intersectBox(const BoxRay& r, const Box3f& box, float tnear, float tfar) {
+  if (r.hasZeroComponent) return intersectBoxWithZeroComponents(r, box, tnear, tfar);
   const float x0 = (box.lower.x - r.org.x) * r.invDir.x, x1 = (box.upper.x - r.org.x) * r.invDir.x;
   const float y0 = (box.lower.y - r.org.y) * r.invDir.y, y1 = (box.upper.y - r.org.y) * r.invDir.y;
   const float z0 = (box.lower.z - r.org.z) * r.invDir.z, z1 = (box.upper.z - r.org.z) * r.invDir.z;

@@ -57,6 +57,19 @@ double edgeDistance(const TriangleHitD& h, D3 v0, D3 v1, D3 v2) {
   return best;
 }
 
+// Distance between the infinite line org + s*dir and the segment [a, b]. Unlike barycentric edge
+// distances, this stays meaningful for grazing rays, whose plane intersection is ill-conditioned.
+double lineSegmentDistance(D3 org, D3 dir, D3 a, D3 b) {
+  const D3 v = sub(b, a), w = sub(org, a);
+  const double dd = dotD(dir, dir), dv = dotD(dir, v), vv = dotD(v, v), dw = dotD(dir, w), vw = dotD(v, w);
+  const double denom = dd * vv - dv * dv;
+  double t = denom > 1e-300 * dd * vv ? (dd * vw - dv * dw) / denom : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  const double s = (dv * t - dw) / dd;  // closest line parameter for that segment point
+  const D3 between{w.x + s * dir.x - t * v.x, w.y + s * dir.y - t * v.y, w.z + s * dir.z - t * v.z};
+  return lengthD(between);
+}
+
 double coordinateMagnitude(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
   double m = std::max({std::fabs(ray.org_x), std::fabs(ray.org_y), std::fabs(ray.org_z)});
   const MeshData& mesh = scene.meshes.at(geomID);
@@ -68,8 +81,8 @@ double coordinateMagnitude(const SceneData& scene, const RTCRay& ray, unsigned g
   return m;
 }
 
-bool nearlyEqual(float a, float b, float relative) {
-  return std::fabs(a - b) <= relative * std::max({std::fabs(a), std::fabs(b), 1e-30f});
+bool nearlyEqual(double a, double b, double relative) {
+  return std::fabs(a - b) <= relative * std::max({std::fabs(a), std::fabs(b), 1e-30});
 }
 
 bool sameValues(const HitRecord& a, const HitRecord& b, const CompareTolerance& tol, std::string& why) {
@@ -97,15 +110,39 @@ bool sameValues(const HitRecord& a, const HitRecord& b, const CompareTolerance& 
 
 std::string describeHit(const char* who, const HitRecord& h) {
   if (!h.hit()) return std::string(who) + " missed";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s hit geom %u prim %u at t=%.9g", who, h.geomID, h.primID, h.t);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%s hit geom %u prim %u at t=%.9g u=%.7g v=%.7g", who, h.geomID, h.primID, h.t, h.u,
+                h.v);
   return buf;
+}
+
+// How a part of a primitive relates to the ray, after accounting for rounding.
+struct PartJudgement {
+  bool borderline = false;  // within tolerance of an edge, a vertex or an end of the segment
+  bool clearHit = false;    // hit well inside the primitive and well inside (tnear, tfar]
+};
+
+PartJudgement judge(const ExactPart& part, const RTCRay& ray, double edgeTolerance, const CompareTolerance& tol) {
+  PartJudgement j;
+  const double tScale = std::max(std::fabs(part.t), 1e-30);
+  const bool nearEdge = part.lineToEdges <= edgeTolerance;
+  const bool nearEnds = std::fabs(part.t - ray.tnear) <= tol.tRelative * tScale ||
+                        std::fabs(part.t - ray.tfar) <= tol.tRelative * tScale;
+  const bool inside = part.planeHit && part.edgeDistance > 0.0;
+  const bool inSegment = part.t > ray.tnear && part.t <= ray.tfar;
+  j.borderline = nearEdge || (inside && nearEnds);
+  j.clearHit = inside && inSegment && !j.borderline;
+  return j;
+}
+
+double edgeToleranceFor(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
+                        const CompareTolerance& tol) {
+  return tol.edgeUlps * coordinateMagnitude(scene, ray, geomID, primID) * std::numeric_limits<float>::epsilon() * 0.5;
 }
 
 }  // namespace
 
-ExactHit intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
-  ExactHit best;
+std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
   const MeshData& mesh = scene.meshes.at(geomID);
   const D3 org{ray.org_x, ray.org_y, ray.org_z}, dir{ray.dir_x, ray.dir_y, ray.dir_z};
   const int corners = mesh.quads ? 4 : 3;
@@ -120,68 +157,87 @@ ExactHit intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geom
   } else {
     tris[0][0] = vertex(mesh, idx[0]), tris[0][1] = vertex(mesh, idx[1]), tris[0][2] = vertex(mesh, idx[2]);
   }
-  best.edgeDistance = -std::numeric_limits<double>::infinity();
+  std::vector<ExactPart> parts;
   for (int k = 0; k < triCount; ++k) {
-    const TriangleHitD h = intersectTriangleD(org, dir, tris[k][0], tris[k][1], tris[k][2]);
-    if (!h.insidePlaneHit) continue;
-    const double d = edgeDistance(h, tris[k][0], tris[k][1], tris[k][2]);
-    if (d > best.edgeDistance) {
-      best.edgeDistance = d;
-      best.t = h.t;
+    const D3* tri = tris[k];
+    ExactPart part;
+    part.lineToEdges = std::min({lineSegmentDistance(org, dir, tri[0], tri[1]), lineSegmentDistance(org, dir, tri[1], tri[2]),
+                                 lineSegmentDistance(org, dir, tri[2], tri[0])});
+    const TriangleHitD h = intersectTriangleD(org, dir, tri[0], tri[1], tri[2]);
+    if (h.insidePlaneHit && std::isfinite(h.t)) {
+      part.planeHit = true;
+      part.t = h.t;
+      part.edgeDistance = edgeDistance(h, tri[0], tri[1], tri[2]);
       const bool secondQuadHalf = mesh.quads && k == 1;
-      best.u = secondQuadHalf ? 1.0 - h.b[1] : h.b[1];
-      best.v = secondQuadHalf ? 1.0 - h.b[2] : h.b[2];
-      best.hit = d >= 0.0 && h.t > ray.tnear && h.t <= ray.tfar;
+      part.u = secondQuadHalf ? 1.0 - h.b[1] : h.b[1];
+      part.v = secondQuadHalf ? 1.0 - h.b[2] : h.b[2];
     }
+    parts.push_back(part);
   }
-  return best;
+  return parts;
 }
 
 Comparison compareHits(const SceneData& scene, const RTCRay& ray, const HitRecord& reference,
                        const HitRecord& candidate, const CompareTolerance& tol) {
   Comparison result;
   if (!reference.hit() && !candidate.hit()) return result;
-  if (reference.hit() && candidate.hit() && reference.geomID == candidate.geomID &&
-      reference.primID == candidate.primID) {
-    std::string why;
-    if (sameValues(reference, candidate, tol, why)) return result;
-    // Same primitive, different values: the double-precision answer decides. If obvh is within
-    // tolerance of it, Embree's rounding (e.g. on a grazing ray) caused the difference.
-    const ExactHit exact = intersectExact(scene, ray, candidate.geomID, candidate.primID);
-    HitRecord truth = candidate;
-    truth.t = float(exact.t);
-    truth.u = float(exact.u);
-    truth.v = float(exact.v);
-    std::string candidateWhy;
-    const bool candidateExact = sameValues(truth, candidate, tol, candidateWhy);
-    result = {candidateExact ? Verdict::Ambiguous : Verdict::Mismatch,
-              why + (candidateExact ? " (obvh agrees with the double-precision answer)" : " (obvh: " + candidateWhy + " from the double-precision answer)")};
-    return result;
-  }
+  std::string why;
+  const bool samePrimitive = reference.hit() && candidate.hit() && reference.geomID == candidate.geomID &&
+                             reference.primID == candidate.primID;
+  if (samePrimitive && sameValues(reference, candidate, tol, why)) return result;
+  if (!samePrimitive) why = "different primitives";
+  result.reason = describeHit("embree", reference) + ", " + describeHit("obvh", candidate) + ": " + why;
 
-  // Different primitives, or a hit against a miss: examine each reported hit in double precision.
-  const std::string what = describeHit("embree", reference) + ", " + describeHit("obvh", candidate);
-  bool ambiguous = false;
-  double exactT[2] = {0, 0};
-  const HitRecord* hits[2] = {&reference, &candidate};
-  for (int k = 0; k < 2; ++k) {
-    if (!hits[k]->hit()) continue;
-    const ExactHit exact = intersectExact(scene, ray, hits[k]->geomID, hits[k]->primID);
-    exactT[k] = exact.t;
-    const double magnitude = coordinateMagnitude(scene, ray, hits[k]->geomID, hits[k]->primID);
-    const double edgeTolerance = tol.edgeUlps * magnitude * std::numeric_limits<float>::epsilon() * 0.5;
-    const double tScale = std::max(std::fabs(exact.t), 1e-30);
-    const bool nearEdge = std::fabs(exact.edgeDistance) <= edgeTolerance;
-    const bool nearSegmentEnd = std::fabs(exact.t - ray.tnear) <= tol.tRelative * tScale ||
-                                std::fabs(exact.t - ray.tfar) <= tol.tRelative * tScale;
-    if (nearEdge || nearSegmentEnd) ambiguous = true;
+  // The answers differ. obvh's answer stands when (1) its hit is real or borderline in double
+  // precision, with matching values, and (2) nothing it did not report is a clear, nearer hit.
+  double obvhT = std::numeric_limits<double>::infinity();
+  if (candidate.hit()) {
+    const double edgeTolerance = edgeToleranceFor(scene, ray, candidate.geomID, candidate.primID, tol);
+    bool confirmed = false;
+    for (const ExactPart& part : intersectExact(scene, ray, candidate.geomID, candidate.primID)) {
+      const PartJudgement j = judge(part, ray, edgeTolerance, tol);
+      HitRecord exact = candidate;
+      exact.t = float(part.t), exact.u = float(part.u), exact.v = float(part.v);
+      std::string ignored;
+      if ((j.clearHit || j.borderline) && sameValues(exact, candidate, tol, ignored)) confirmed = true;
+    }
+    if (!confirmed) {
+      result.verdict = Verdict::Mismatch;
+      result.reason += " (obvh's hit is not confirmed in double precision)";
+      return result;
+    }
+    obvhT = candidate.t;
   }
-  if (reference.hit() && candidate.hit() &&
-      std::fabs(exactT[0] - exactT[1]) <= tol.tRelative * std::max({std::fabs(exactT[0]), std::fabs(exactT[1]), 1e-30}))
-    ambiguous = true;  // equally distant surfaces: either answer is a correct closest hit
-  result.verdict = ambiguous ? Verdict::Ambiguous : Verdict::Mismatch;
-  result.reason = what;
+  if (reference.hit()) {
+    const double edgeTolerance = edgeToleranceFor(scene, ray, reference.geomID, reference.primID, tol);
+    for (const ExactPart& part : intersectExact(scene, ray, reference.geomID, reference.primID)) {
+      const PartJudgement j = judge(part, ray, edgeTolerance, tol);
+      if (j.clearHit && part.t < obvhT - tol.tRelative * std::max(std::fabs(part.t), 1e-30)) {
+        result.verdict = Verdict::Mismatch;
+        result.reason += " (obvh missed a clear, nearer hit)";
+        return result;
+      }
+    }
+  }
+  result.verdict = Verdict::Ambiguous;
   return result;
+}
+
+OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const CompareTolerance& tol) {
+  bool ambiguous = false;
+  for (unsigned geomID = 0; geomID < scene.meshes.size(); ++geomID) {
+    const MeshData& mesh = scene.meshes[geomID];
+    if (!mesh.enabled || (mesh.mask & ray.mask) == 0) continue;
+    for (unsigned primID = 0; primID < mesh.primitiveCount(); ++primID) {
+      const double edgeTolerance = edgeToleranceFor(scene, ray, geomID, primID, tol);
+      for (const ExactPart& part : intersectExact(scene, ray, geomID, primID)) {
+        const PartJudgement j = judge(part, ray, edgeTolerance, tol);
+        if (j.clearHit) return OcclusionTruth::Occluded;
+        if (j.borderline) ambiguous = true;
+      }
+    }
+  }
+  return ambiguous ? OcclusionTruth::Ambiguous : OcclusionTruth::Free;
 }
 
 std::string describeRay(const RTCRay& r) {

@@ -6,6 +6,7 @@
 #include <embree3/rtcore.h>
 
 #include <string>
+#include <vector>
 
 #include "scene_data.h"
 
@@ -30,14 +31,19 @@ struct Comparison {
 Comparison compareHits(const SceneData& scene, const RTCRay& ray, const HitRecord& reference,
                        const HitRecord& candidate, const CompareTolerance& tolerance = {});
 
-// Exact-ish intersection of ray with one primitive in double precision (for reports and tests).
-struct ExactHit {
-  bool hit = false;        // inside the primitive and within (tnear, tfar]
+// One triangle of a primitive (quads have two) intersected in double precision.
+struct ExactPart {
+  bool planeHit = false;       // the ray's line meets the triangle's plane
   double t = 0.0;
-  double u = 0.0, v = 0.0;    // in Embree's convention (quads: the quad's own parameterisation)
-  double edgeDistance = 0.0;  // world-space distance of the hit point to the nearest boundary edge
+  double u = 0.0, v = 0.0;     // in Embree's convention (quads: the quad's own parameterisation)
+  double edgeDistance = 0.0;   // in-plane distance of the hit point to the boundary, positive inside
+  double lineToEdges = 0.0;    // 3D distance between the ray's line and the triangle's edges
 };
-ExactHit intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID);
+std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID);
+
+// Ground truth for an occlusion query by brute force over every enabled primitive in double precision.
+enum class OcclusionTruth { Occluded, Free, Ambiguous };
+OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const CompareTolerance& tolerance = {});
 
 std::string describeRay(const RTCRay& ray);  // hex floats, so a failure can be replayed exactly
 

@@ -1,0 +1,152 @@
+// Misuse where Debian's Embree crashes, asserts or reads out of bounds: obvh reports an error
+// instead. Also obvh's own configuration errors. Runs on obvh alone, through obvh's header.
+#include <embree3/rtcore.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Device {
+  RTCDevice device = rtcNewDevice(nullptr);
+  ~Device() { rtcReleaseDevice(device); }
+};
+
+TEST(ErrorDivergence, QueriesWithNullHandlesReportInvalidArgument) {
+  Device d;
+  RTCScene scene = rtcNewScene(d.device);
+  rtcCommitScene(scene);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rtcIntersect1(nullptr, &context, &rh);  // Embree 3.13.5 segfaults here
+  EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT);
+  rtcOccluded1(nullptr, &context, &rh.ray);
+  EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT);
+  rtcIntersect1(scene, nullptr, &rh);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_ARGUMENT);
+  rtcIntersect1(scene, &context, nullptr);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_ARGUMENT);
+  rtcReleaseScene(scene);
+}
+
+TEST(ErrorDivergence, GetGeometryPastTheEndReportsInvalidArgument) {
+  Device d;
+  RTCScene scene = rtcNewScene(d.device);
+  EXPECT_EQ(rtcGetGeometry(scene, 5), nullptr);  // Embree 3.13.5 asserts here
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_ARGUMENT);
+  rtcReleaseScene(scene);
+}
+
+TEST(ErrorDivergence, BufferRangeLargerThanTheBufferIsRejected) {
+  Device d;
+  RTCBuffer buffer = rtcNewBuffer(d.device, 16);
+  RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, buffer, 0, 12, 3);  // needs 36 bytes
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_ARGUMENT);
+  rtcSetGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, buffer, 4, 12, 1);  // 16 bytes: fits
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_NONE);
+  rtcReleaseGeometry(g);
+  rtcReleaseBuffer(buffer);
+}
+
+TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
+  Device d;
+  std::vector<std::string> messages;
+  rtcSetDeviceErrorFunction(
+      d.device, [](void* user, RTCError, const char* msg) { static_cast<std::vector<std::string>*>(user)->push_back(msg); },
+      &messages);
+  for (RTCGeometryType type : {RTC_GEOMETRY_TYPE_USER, RTC_GEOMETRY_TYPE_INSTANCE, RTC_GEOMETRY_TYPE_GRID,
+                               RTC_GEOMETRY_TYPE_SUBDIVISION, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE,
+                               RTC_GEOMETRY_TYPE_SPHERE_POINT}) {
+    EXPECT_EQ(rtcNewGeometry(d.device, type), nullptr);
+    EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  }
+  RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryTimeStepCount(g, 2);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  rtcSetGeometryIntersectFilterFunction(g, [](const RTCFilterFunctionNArguments*) {});
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  rtcInterpolate0(g, 0, 0.f, 0.f, RTC_BUFFER_TYPE_VERTEX, 0, nullptr, 3);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  RTCScene scene = rtcNewScene(d.device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  RTCPointQuery query{};
+  RTCPointQueryContext pqContext;
+  rtcInitPointQueryContext(&pqContext);
+  EXPECT_FALSE(rtcPointQuery(scene, &query, &pqContext, nullptr, nullptr));
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  EXPECT_EQ(rtcNewBVH(d.device), nullptr);
+  EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
+  EXPECT_EQ(rtcGetDeviceProperty(d.device, RTC_DEVICE_PROPERTY_USER_GEOMETRY_SUPPORTED), 0);
+  EXPECT_EQ(rtcGetDeviceProperty(d.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED), 0);
+  for (const std::string& m : messages) EXPECT_FALSE(m.empty());
+  EXPECT_GE(messages.size(), 11u);
+  rtcReleaseScene(scene);
+  rtcReleaseGeometry(g);
+}
+
+TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
+  for (const char* config : {"", "threads=1", "verbose=0,isa=avx2", "accel=bvh4.triangle4", "foo=bar",
+                             "accel=bvh2,intersector=watertight,build_bins=16,max_leaf_size=2"}) {
+    RTCDevice device = rtcNewDevice(config);
+    EXPECT_NE(device, nullptr) << config;
+    EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
+    rtcReleaseDevice(device);
+  }
+}
+
+TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
+  for (const char* config : {"threads=-1", "accel=bvh8", "accel=nonsense", "intersector=fast", "intersector=foo",
+                             "build_bins=1", "max_leaf_size=x"}) {
+    EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
+    EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;
+  }
+}
+
+TEST(DeviceConfig, ObvhConfigEnvironmentVariableApplies) {
+  setenv("OBVH_CONFIG", "accel=nonsense", 1);
+  EXPECT_EQ(rtcNewDevice("threads=1"), nullptr);
+  EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT);
+  setenv("OBVH_CONFIG", "build_bins=8", 1);
+  RTCDevice device = rtcNewDevice("threads=1");
+  EXPECT_NE(device, nullptr);
+  rtcReleaseDevice(device);
+  unsetenv("OBVH_CONFIG");
+}
+
+TEST(RefCounts, ObjectsStayAliveWhileReferenced) {
+  RTCDevice device = rtcNewDevice(nullptr);
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3));
+  unsigned* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, 1));
+  const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  for (int k = 0; k < 9; ++k) v[k] = tri[k];
+  i[0] = 0, i[1] = 1, i[2] = 2;
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);    // the scene still holds it
+  rtcReleaseDevice(device); // the scene still holds the device
+  rtcCommitScene(scene);
+  RTCDevice same = rtcGetSceneDevice(scene);
+  EXPECT_EQ(same, device);
+  EXPECT_EQ(rtcGetGeometry(scene, 0), g);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = 0.25f, rh.ray.org_y = 0.25f, rh.ray.org_z = -1.f, rh.ray.dir_z = 1.f;
+  rh.ray.tfar = INFINITY, rh.ray.mask = ~0u, rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene, &context, &rh);
+  EXPECT_EQ(rh.hit.geomID, 0u);
+  EXPECT_FLOAT_EQ(rh.ray.tfar, 1.f);
+  EXPECT_EQ(rtcGetDeviceError(same), RTC_ERROR_NONE);
+  rtcReleaseScene(scene);
+  rtcReleaseDevice(same);
+}
+
+}  // namespace

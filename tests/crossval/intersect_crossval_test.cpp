@@ -1,0 +1,122 @@
+// rtcIntersect1 and rtcOccluded1 through obvh and Debian's Embree on the same scenes and rays.
+#include <gtest/gtest.h>
+
+#include "crossval_harness.h"
+#include "test_scenes.h"
+
+namespace obvh::test {
+namespace {
+
+constexpr size_t kRandomRays = 100000;
+constexpr int kGridSide = 320;  // 102400 coherent rays
+
+void expectNoMismatch(const char* what, const CrossvalCounts& counts) {
+  std::printf("[crossval] %-34s %s\n", what, counts.summary().c_str());
+  ::testing::Test::RecordProperty(std::string(what) + "_rays", std::to_string(counts.rays));
+  ::testing::Test::RecordProperty(std::string(what) + "_ambiguous", std::to_string(counts.ambiguous));
+  EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
+}
+
+SceneData single(const char* name, MeshData mesh) {
+  SceneData scene;
+  scene.name = name;
+  scene.meshes.push_back(std::move(mesh));
+  return scene;
+}
+
+TEST(CrossvalIntersect, RandomTriangleSoup) {
+  const SceneData scene = single("soup", randomTriangleSoup(20000, 1));
+  expectNoMismatch("soup intersect", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 2)));
+  expectNoMismatch("soup occluded", crossvalOccluded1(scene, mixedRays(scene, kRandomRays / 4, kGridSide / 2, 3)));
+}
+
+TEST(CrossvalIntersect, ClosedIcosphereSharedEdgesAndVertices) {
+  const float center[3] = {0.1f, -0.2f, 0.3f};
+  const SceneData scene = single("icosphere", icosphere(4, 1.f, center));
+  expectNoMismatch("icosphere edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays, 4)));
+  expectNoMismatch("icosphere mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 5)));
+}
+
+TEST(CrossvalIntersect, ClosedIcosphereRobustFlag) {
+  const float center[3] = {0.f, 0.f, 0.f};
+  const SceneData scene = single("icosphere", icosphere(3, 2.f, center));
+  expectNoMismatch("icosphere robust edges",
+                   crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays, 6),
+                                      RTC_SCENE_FLAG_ROBUST));
+}
+
+TEST(CrossvalIntersect, BoxesOfTrianglesAndQuads) {
+  SceneData scene;
+  scene.name = "boxes";
+  for (int i = 0; i < 27; ++i) {
+    const float lo[3] = {float(i % 3) * 1.5f, float((i / 3) % 3) * 1.5f, float(i / 9) * 1.5f};
+    const float hi[3] = {lo[0] + 1.f, lo[1] + 1.f + 0.1f * float(i % 4), lo[2] + 1.f};
+    scene.meshes.push_back(box(lo, hi, i % 2 == 0));
+  }
+  expectNoMismatch("boxes mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 7)));
+  expectNoMismatch("boxes quad edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 8)));
+}
+
+TEST(CrossvalIntersect, NonPlanarQuadGrid) {
+  const SceneData scene = single("quads", quadGrid(100, 0.4f, 9));
+  expectNoMismatch("quad grid mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 10)));
+  expectNoMismatch("quad grid edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays, 11)));
+}
+
+TEST(CrossvalIntersect, TriangleFanAroundOneVertex) {
+  const SceneData scene = single("fan", triangleFan(64));
+  expectNoMismatch("fan edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays, 12)));
+}
+
+TEST(CrossvalIntersect, ManyGeometriesWithMasksAndDisabled) {
+  SceneData scene;
+  scene.name = "masked";
+  for (int g = 0; g < 12; ++g) {
+    MeshData mesh = randomTriangleSoup(1500, 100 + g);
+    mesh.mask = 1u << (g % 3);
+    mesh.enabled = g % 5 != 4;
+    scene.meshes.push_back(std::move(mesh));
+  }
+  std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 13);
+  assignMasks(rays, 14);
+  expectNoMismatch("masked+disabled intersect", crossvalIntersect1(scene, rays));
+  rays.resize(50000);
+  expectNoMismatch("masked+disabled occluded", crossvalOccluded1(scene, rays));
+}
+
+TEST(CrossvalIntersect, UpdatedAndRecommittedGeometry) {
+  SceneData scene;
+  scene.name = "updated";
+  scene.meshes.push_back(randomTriangleSoup(5000, 15));
+  scene.meshes.push_back(quadGrid(40, 0.2f, 16));
+  const LoadedLibraries& libs = libraries();
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene);
+
+  // Move the soup, disable the grid, change a mask: both libraries must see the new state.
+  const float offset[3] = {0.3f, -0.2f, 0.1f};
+  transformMesh(scene.meshes[0], 0.8f, offset);
+  scene.meshes[1].enabled = false;
+  scene.meshes[0].mask = 0x2u;
+  reference.recommit(scene);
+  candidate.recommit(scene);
+
+  std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 17);
+  assignMasks(rays, 18);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  CrossvalCounts counts;
+  for (const RTCRay& ray : rays) {
+    RTCRayHit a{}, b{};
+    a.ray = b.ray = ray;
+    a.hit.geomID = b.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    libs.embree->rtcIntersect1(reference.scene(), &context, &a);
+    libs.obvh->rtcIntersect1(candidate.scene(), &context, &b);
+    counts.add(tools::compareHits(scene, ray, tools::toHitRecord(a), tools::toHitRecord(b)), ray);
+  }
+  expectNoMismatch("updated+recommitted", counts);
+  EXPECT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
+}
+
+}  // namespace
+}  // namespace obvh::test

@@ -1,0 +1,120 @@
+#include "test_scenes.h"
+
+#include <cmath>
+#include <array>
+#include <map>
+#include <random>
+#include <utility>
+
+namespace obvh::test {
+
+MeshData randomTriangleSoup(size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  MeshData mesh;
+  for (size_t i = 0; i < count; ++i) {
+    const float size = 0.005f * std::pow(100.f, unit(rng));
+    const float c[3] = {unit(rng), unit(rng), unit(rng)};
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) mesh.vertices.push_back(c[k] + (unit(rng) - 0.5f) * size);
+      mesh.indices.push_back(uint32_t(3 * i + v));
+    }
+  }
+  return mesh;
+}
+
+MeshData icosphere(int subdivisions, float radius, const float center[3]) {
+  const float t = (1.f + std::sqrt(5.f)) / 2.f;
+  std::vector<std::array<float, 3>> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7},  {0, 7, 10}, {0, 10, 11},
+                                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},  {3, 6, 8},  {3, 8, 9},
+                                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},  {9, 8, 1}};
+  auto normalizeVertex = [](std::array<float, 3> p) {
+    const float l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    return std::array<float, 3>{p[0] / l, p[1] / l, p[2] / l};
+  };
+  for (auto& p : v) p = normalizeVertex(p);
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = midpoints.find(key);
+      if (it != midpoints.end()) return it->second;
+      v.push_back(normalizeVertex({(v[a][0] + v[b][0]) / 2, (v[a][1] + v[b][1]) / 2, (v[a][2] + v[b][2]) / 2}));
+      return midpoints[key] = uint32_t(v.size() - 1);
+    };
+    std::vector<std::array<uint32_t, 3>> next;
+    for (const auto& tri : f) {
+      const uint32_t a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      next.push_back({tri[0], a, c});
+      next.push_back({tri[1], b, a});
+      next.push_back({tri[2], c, b});
+      next.push_back({a, b, c});
+    }
+    f = std::move(next);
+  }
+  MeshData mesh;
+  for (const auto& p : v)
+    for (int k = 0; k < 3; ++k) mesh.vertices.push_back(center[k] + radius * p[k]);
+  for (const auto& tri : f) mesh.indices.insert(mesh.indices.end(), tri.begin(), tri.end());
+  return mesh;
+}
+
+MeshData box(const float lo[3], const float hi[3], bool asQuads) {
+  MeshData mesh;
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.push_back(i & 1 ? hi[0] : lo[0]);
+    mesh.vertices.push_back(i & 2 ? hi[1] : lo[1]);
+    mesh.vertices.push_back(i & 4 ? hi[2] : lo[2]);
+  }
+  // Faces listed counter-clockwise seen from outside.
+  const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  mesh.quads = asQuads;
+  for (const auto& q : faces) {
+    if (asQuads) {
+      mesh.indices.insert(mesh.indices.end(), q, q + 4);
+    } else {
+      mesh.indices.insert(mesh.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    }
+  }
+  return mesh;
+}
+
+MeshData quadGrid(int n, float jitter, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(-1.f, 1.f);
+  MeshData mesh;
+  mesh.quads = true;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) {
+      mesh.vertices.push_back(float(x) / n);
+      mesh.vertices.push_back(float(y) / n);
+      mesh.vertices.push_back(jitter * unit(rng) / n);
+    }
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const uint32_t i = uint32_t(y * (n + 1) + x);
+      mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + uint32_t(n) + 2, i + uint32_t(n) + 1});
+    }
+  return mesh;
+}
+
+MeshData triangleFan(int count) {
+  MeshData mesh;
+  mesh.vertices = {0.f, 0.f, 0.f};
+  for (int i = 0; i < count; ++i) {
+    const float a = 2.f * 3.14159265358979f * float(i) / float(count);
+    mesh.vertices.insert(mesh.vertices.end(), {std::cos(a), std::sin(a), 0.f});
+  }
+  for (int i = 0; i < count; ++i)
+    mesh.indices.insert(mesh.indices.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % count)});
+  return mesh;
+}
+
+void transformMesh(MeshData& mesh, float scale, const float offset[3]) {
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) mesh.vertices[i] = mesh.vertices[i] * scale + offset[i % 3];
+}
+
+}  // namespace obvh::test
