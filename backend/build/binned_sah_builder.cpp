@@ -130,7 +130,7 @@ class BinnedSahBuilder {
   }
 
   Bins binAll(size_t begin, size_t end, const BinMapping& mapping) const {
-    const int binCount = options_.binCount;
+    const int binCount = mapping.binCount;
     if (end - begin < kParallelBinningThreshold) {
       Bins bins(binCount);
       binRange(begin, end, mapping, bins);
@@ -148,8 +148,7 @@ class BinnedSahBuilder {
         });
   }
 
-  Split findBestSplit(const Bins& bins) const {
-    const int binCount = options_.binCount;
+  Split findBestSplit(const Bins& bins, int binCount) const {
     Split best;
     std::array<float, kMaxBins> rightCost{};
     std::array<uint32_t, kMaxBins> rightCount{};
@@ -186,7 +185,9 @@ class BinnedSahBuilder {
     if (n == 1) return makeLeaf(nodeIndex, begin, end, info.bounds);
 
     size_t middle = begin;
-    const BinMapping mapping(info.centroidBounds, options_.binCount);
+    // Small nodes cannot use many bins; sweeping empty bins would dominate the build time.
+    const int binCount = int(std::min<size_t>(size_t(options_.binCount), std::max<size_t>(4, 2 * n)));
+    const BinMapping mapping(info.centroidBounds, binCount);
     const bool centroidsDistinct = !(info.centroidBounds.lower.x == info.centroidBounds.upper.x &&
                                      info.centroidBounds.lower.y == info.centroidBounds.upper.y &&
                                      info.centroidBounds.lower.z == info.centroidBounds.upper.z);
@@ -200,7 +201,7 @@ class BinnedSahBuilder {
                        });
     } else if (centroidsDistinct) {
       const Bins bins = binAll(begin, end, mapping);
-      const Split split = findBestSplit(bins);
+      const Split split = findBestSplit(bins, binCount);
       const float parentArea = info.bounds.halfArea();
       const float leafCost = options_.intersectionCost * float(n);
       const float splitCost =
