@@ -4,9 +4,9 @@
 
 namespace obvh::tools {
 
-RtcLibrary::~RtcLibrary() {
-  if (handle_) dlclose(handle_);
-}
+// The handle is deliberately never closed: both libraries start TBB worker threads that can outlive
+// the release of the last device, and unmapping their code under a running thread crashes at exit.
+RtcLibrary::~RtcLibrary() = default;
 
 std::unique_ptr<RtcLibrary> RtcLibrary::open(const std::string& path, const std::string& label, std::string& error) {
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);

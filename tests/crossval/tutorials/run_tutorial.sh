@@ -21,8 +21,11 @@ on_embree() {  # on_embree LOG PROGRAM ARGS...
 on_obvh() {  # on_obvh LOG PROGRAM ARGS...
   local log=$1
   shift
-  LD_LIBRARY_PATH="$obvh_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" ldd "$(command -v "$1")" \
-    | grep -q "$obvh_lib/libembree3.so.3" || { echo "$1 does not resolve libembree3.so.3 to obvh's drop-in"; exit 1; }
+  # Captured first: with pipefail, grep -q closing the pipe early would make ldd fail with SIGPIPE.
+  local resolved
+  resolved=$(LD_LIBRARY_PATH="$obvh_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" ldd "$(command -v "$1")")
+  grep -q "$obvh_lib/libembree3.so.3" <<< "$resolved" || {
+    echo "$1 does not resolve libembree3.so.3 to obvh's drop-in"; exit 1; }
   LD_LIBRARY_PATH="$obvh_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" "$@" > "$log" 2>&1 || {
     echo "$1 failed on obvh:"; cat "$log"; exit 1; }
 }
