@@ -8,7 +8,7 @@ using namespace obvh::api;
 
 namespace {
 
-ssize_t queryProperty(RTCDeviceProperty prop) {
+ssize_t queryProperty(const Device& device, RTCDeviceProperty prop) {
   switch (prop) {
     case RTC_DEVICE_PROPERTY_VERSION: return RTC_VERSION;
     case RTC_DEVICE_PROPERTY_VERSION_MAJOR: return RTC_VERSION_MAJOR;
@@ -21,17 +21,17 @@ ssize_t queryProperty(RTCDeviceProperty prop) {
     case RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED: return 0;  // as Debian's build reports
     case RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_BACKFACE_CULLING_CURVES_ENABLED: return 0;
-    case RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED: return 1;
+    case RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED: return device.config().rayMasks ? 1 : 0;
     case RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED: return 0;
-    // Not yet: filter callbacks, subdivision, curves, user geometry and points come later.
-    case RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED: return 0;
+    // Not yet: subdivision, curves and points come later.
+    case RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_IGNORE_INVALID_RAYS_ENABLED: return 0;
     case RTC_DEVICE_PROPERTY_COMPACT_POLYS_ENABLED: return 0;
     case RTC_DEVICE_PROPERTY_TRIANGLE_GEOMETRY_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_QUAD_GEOMETRY_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_SUBDIVISION_GEOMETRY_SUPPORTED: return 0;
     case RTC_DEVICE_PROPERTY_CURVE_GEOMETRY_SUPPORTED: return 0;
-    case RTC_DEVICE_PROPERTY_USER_GEOMETRY_SUPPORTED: return 0;
+    case RTC_DEVICE_PROPERTY_USER_GEOMETRY_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_POINT_GEOMETRY_SUPPORTED: return 0;
     case RTC_DEVICE_PROPERTY_TASKING_SYSTEM: return 1;  // 1 = TBB, as in Debian's build
     case RTC_DEVICE_PROPERTY_JOIN_COMMIT_SUPPORTED: return 1;
@@ -65,7 +65,7 @@ RTC_API ssize_t rtcGetDeviceProperty(RTCDevice device, RTCDeviceProperty prop) {
   Device* d = Device::from(device);
   return guarded(d, ssize_t(0), [&] {
     requireHandle(d);
-    return queryProperty(prop);
+    return queryProperty(*d, prop);
   });
 }
 

@@ -57,6 +57,10 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       } else {
         fail(RTC_ERROR_INVALID_ARGUMENT, "unknown intersector '" + value + "' (available: watertight)");
       }
+    } else if (name == "ray_mask") {
+      if (value == "on") config.rayMasks = true;
+      else if (value == "off") config.rayMasks = false;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for ray_mask (on or off)");
     } else if (name == "build_bins") {
       config.buildBins = parseInt(name, value, 2, 256);
     } else if (name == "max_leaf_size") {

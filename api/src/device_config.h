@@ -15,6 +15,8 @@ struct DeviceConfig {
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
   int maxLeafSize = 4;
+  // ray_mask=off: ignore ray and geometry masks, for programs written against builds without masks.
+  bool rayMasks = true;
 };
 
 // Tokens are "name=value" separated by commas. Like Embree, names obvh does not know are ignored;

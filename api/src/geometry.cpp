@@ -1,10 +1,117 @@
 #include "geometry.h"
 
+#include <cstring>
+
 #include "api_error.h"
+#include "scene.h"
 
 namespace obvh::api {
 
 Geometry::Geometry(Device* device, RTCGeometryType type) : device_(device), type_(type), vertices_(1) {}
+
+Geometry::~Geometry() {
+  if (instancedScene_) instancedScene_->release();
+}
+
+namespace {
+
+void requireType(const Geometry& g, RTCGeometryType type, const char* message) {
+  if (g.type() != type) fail(RTC_ERROR_INVALID_OPERATION, message);
+}
+
+}  // namespace
+
+void Geometry::setInstancedScene(Scene* scene) {
+  requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
+  if (scene) scene->retain();
+  if (instancedScene_) instancedScene_->release();
+  instancedScene_ = scene;
+  markModified();
+}
+
+void Geometry::setTransform(unsigned timeStep, const Affine3f& xfm) {
+  requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
+  if (timeStep != 0) fail(RTC_ERROR_INVALID_OPERATION, "invalid timestep (obvh has one time step: no motion blur yet)");
+  transform_ = xfm;
+  markModified();
+}
+
+void Geometry::setTransform(unsigned timeStep, RTCFormat format, const void* xfm) {
+  if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
+  const float* m = static_cast<const float*>(xfm);
+  Affine3f a;
+  switch (format) {
+    case RTC_FORMAT_FLOAT3X4_ROW_MAJOR:  // rows: (vx.x vy.x vz.x p.x) ...
+      a.vx = {m[0], m[4], m[8]}, a.vy = {m[1], m[5], m[9]}, a.vz = {m[2], m[6], m[10]}, a.p = {m[3], m[7], m[11]};
+      break;
+    case RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR:
+      a.vx = {m[0], m[1], m[2]}, a.vy = {m[3], m[4], m[5]}, a.vz = {m[6], m[7], m[8]}, a.p = {m[9], m[10], m[11]};
+      break;
+    case RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR:
+      a.vx = {m[0], m[1], m[2]}, a.vy = {m[4], m[5], m[6]}, a.vz = {m[8], m[9], m[10]}, a.p = {m[12], m[13], m[14]};
+      break;
+    default:
+      fail(RTC_ERROR_INVALID_OPERATION, "invalid matrix format");
+  }
+  setTransform(timeStep, a);
+}
+
+void Geometry::getTransform(RTCFormat format, void* xfm) const {
+  requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
+  if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
+  float* m = static_cast<float*>(xfm);
+  const Affine3f& a = transform_;
+  switch (format) {
+    case RTC_FORMAT_FLOAT3X4_ROW_MAJOR: {
+      const float r[12] = {a.vx.x, a.vy.x, a.vz.x, a.p.x, a.vx.y, a.vy.y, a.vz.y, a.p.y, a.vx.z, a.vy.z, a.vz.z, a.p.z};
+      std::memcpy(m, r, sizeof r);
+      break;
+    }
+    case RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR: {
+      const float c[12] = {a.vx.x, a.vx.y, a.vx.z, a.vy.x, a.vy.y, a.vy.z, a.vz.x, a.vz.y, a.vz.z, a.p.x, a.p.y, a.p.z};
+      std::memcpy(m, c, sizeof c);
+      break;
+    }
+    case RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR: {
+      const float c[16] = {a.vx.x, a.vx.y, a.vx.z, 0.f, a.vy.x, a.vy.y, a.vy.z, 0.f,
+                           a.vz.x, a.vz.y, a.vz.z, 0.f, a.p.x,  a.p.y,  a.p.z,  1.f};
+      std::memcpy(m, c, sizeof c);
+      break;
+    }
+    default:
+      fail(RTC_ERROR_INVALID_OPERATION, "invalid matrix format");
+  }
+}
+
+void Geometry::setUserPrimitiveCount(unsigned count) {
+  requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
+  user_.primitiveCount = count;
+  markModified();
+}
+
+void Geometry::setBoundsFunction(RTCBoundsFunction fn, void* userPtr) {
+  requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
+  user_.bounds = fn;
+  user_.boundsUserPtr = userPtr;
+  markModified();
+}
+
+void Geometry::setIntersectFunction(RTCIntersectFunctionN fn) {
+  requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
+  user_.intersect = fn;
+  markModified();
+}
+
+void Geometry::setOccludedFunction(RTCOccludedFunctionN fn) {
+  requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
+  user_.occluded = fn;
+  markModified();
+}
+
+const BufferView& Geometry::attributeBuffer(unsigned slot) const {
+  if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+  return attributes_[slot];
+}
 
 BufferView& Geometry::view(RTCBufferType type, unsigned slot) {
   switch (type) {
@@ -24,6 +131,7 @@ BufferView& Geometry::view(RTCBufferType type, unsigned slot) {
 
 void Geometry::setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, const Ref<Buffer>& buffer,
                          size_t byteOffset, size_t byteStride, size_t itemCount) {
+  if (!isMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   switch (type) {
     case RTC_BUFFER_TYPE_INDEX:
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");

@@ -9,13 +9,26 @@
 
 #include "buffer.h"
 #include "device.h"
+#include "math/affine.h"
 #include "ref_counted.h"
 
 namespace obvh::api {
 
+class Scene;
+
+// Embree's user-geometry callbacks.
+struct UserCallbacks {
+  unsigned primitiveCount = 0;
+  RTCBoundsFunction bounds = nullptr;
+  void* boundsUserPtr = nullptr;
+  RTCIntersectFunctionN intersect = nullptr;
+  RTCOccludedFunctionN occluded = nullptr;
+};
+
 class Geometry : public RefCounted {
  public:
   Geometry(Device* device, RTCGeometryType type);
+  ~Geometry() override;
 
   Device* device() const { return device_.get(); }
   RTCGeometryType type() const { return type_; }
@@ -33,6 +46,29 @@ class Geometry : public RefCounted {
   void setEnabled(bool enabled);
   void commit();
 
+  // Instances.
+  void setInstancedScene(Scene* scene);
+  Scene* instancedScene() const { return instancedScene_; }
+  void setTransform(unsigned timeStep, RTCFormat format, const void* xfm);
+  void setTransform(unsigned timeStep, const Affine3f& xfm);
+  const Affine3f& transform() const { return transform_; }
+  void getTransform(RTCFormat format, void* xfm) const;
+
+  // User geometry.
+  void setUserPrimitiveCount(unsigned count);
+  void setBoundsFunction(RTCBoundsFunction fn, void* userPtr);
+  void setIntersectFunction(RTCIntersectFunctionN fn);
+  void setOccludedFunction(RTCOccludedFunctionN fn);
+  const UserCallbacks& user() const { return user_; }
+
+  // Filters (any geometry type).
+  void setIntersectFilter(RTCFilterFunctionN fn) { intersectFilter_ = fn; markModified(); }
+  void setOccludedFilter(RTCFilterFunctionN fn) { occludedFilter_ = fn; markModified(); }
+  RTCFilterFunctionN intersectFilter() const { return intersectFilter_; }
+  RTCFilterFunctionN occludedFilter() const { return occludedFilter_; }
+  void setPointQueryFunction(RTCPointQueryFunction fn) { pointQuery_ = fn; }
+  RTCPointQueryFunction pointQueryFunction() const { return pointQuery_; }
+
   void setUserData(void* ptr) { userData_ = ptr; }
   void* userData() const { return userData_; }
 
@@ -44,6 +80,9 @@ class Geometry : public RefCounted {
   const BufferView& indexBuffer() const { return index_; }
   const BufferView& vertexBuffer() const { return vertices_[0]; }
   bool isQuadMesh() const { return type_ == RTC_GEOMETRY_TYPE_QUAD; }
+  bool isMesh() const { return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD; }
+  // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
+  const BufferView& attributeBuffer(unsigned slot) const;
 
   static Geometry* from(RTCGeometry handle) { return reinterpret_cast<Geometry*>(handle); }
   RTCGeometry handle() { return reinterpret_cast<RTCGeometry>(this); }
@@ -63,6 +102,12 @@ class Geometry : public RefCounted {
   bool committed_ = false;
   void* userData_ = nullptr;
   std::atomic<uint64_t> modCounter_{0};
+  Scene* instancedScene_ = nullptr;  // retained while set
+  Affine3f transform_;
+  UserCallbacks user_;
+  RTCFilterFunctionN intersectFilter_ = nullptr;
+  RTCFilterFunctionN occludedFilter_ = nullptr;
+  RTCPointQueryFunction pointQuery_ = nullptr;
 };
 
 }  // namespace obvh::api

@@ -1,10 +1,12 @@
 // rtc* entry points for geometries (triangle and quad meshes in this slice).
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <string>
 
 #include "api_error.h"
 #include "geometry.h"
+#include "scene.h"
 
 using namespace obvh::api;
 
@@ -50,9 +52,11 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType type) {
   return guarded(d, RTCGeometry(nullptr), [&] {
     requireHandle(d);
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
-    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD)
-      fail(RTC_ERROR_INVALID_OPERATION,
-           "geometry type " + std::to_string(int(type)) + " is not supported by obvh yet (triangles and quads are)");
+    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_USER &&
+        type != RTC_GEOMETRY_TYPE_INSTANCE)
+      fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
+                                            " is not supported by obvh yet (triangles, quads, user geometry and "
+                                            "instances are)");
     return (new Geometry(d, type))->handle();
   });
 }
@@ -136,47 +140,74 @@ RTC_API void* rtcGetGeometryUserData(RTCGeometry geometry) {
   return guarded(deviceOf(g), static_cast<void*>(nullptr), [&] { return requireHandle(g)->userData(); });
 }
 
-// Callbacks and operations of later slices: they fail loudly instead of being silently ignored.
-RTC_API void rtcSetGeometryIntersectFilterFunction(RTCGeometry geometry, RTCFilterFunctionN) {
-  withGeometry(geometry, [](Geometry&) {
-    fail(RTC_ERROR_INVALID_OPERATION, "intersection filter functions are not supported by obvh yet");
+RTC_API void rtcSetGeometryIntersectFilterFunction(RTCGeometry geometry, RTCFilterFunctionN filter) {
+  withGeometry(geometry, [&](Geometry& g) { g.setIntersectFilter(filter); });
+}
+
+RTC_API void rtcSetGeometryOccludedFilterFunction(RTCGeometry geometry, RTCFilterFunctionN filter) {
+  withGeometry(geometry, [&](Geometry& g) { g.setOccludedFilter(filter); });
+}
+
+RTC_API void rtcSetGeometryPointQueryFunction(RTCGeometry geometry, RTCPointQueryFunction pointQuery) {
+  withGeometry(geometry, [&](Geometry& g) { g.setPointQueryFunction(pointQuery); });
+}
+
+RTC_API void rtcSetGeometryUserPrimitiveCount(RTCGeometry geometry, unsigned int count) {
+  withGeometry(geometry, [&](Geometry& g) { g.setUserPrimitiveCount(count); });
+}
+
+RTC_API void rtcSetGeometryBoundsFunction(RTCGeometry geometry, RTCBoundsFunction bounds, void* userPtr) {
+  withGeometry(geometry, [&](Geometry& g) { g.setBoundsFunction(bounds, userPtr); });
+}
+
+RTC_API void rtcSetGeometryIntersectFunction(RTCGeometry geometry, RTCIntersectFunctionN intersect) {
+  withGeometry(geometry, [&](Geometry& g) { g.setIntersectFunction(intersect); });
+}
+
+RTC_API void rtcSetGeometryOccludedFunction(RTCGeometry geometry, RTCOccludedFunctionN occluded) {
+  withGeometry(geometry, [&](Geometry& g) { g.setOccludedFunction(occluded); });
+}
+
+RTC_API void rtcSetGeometryInstancedScene(RTCGeometry geometry, RTCScene scene) {
+  withGeometry(geometry, [&](Geometry& g) { g.setInstancedScene(requireHandle(Scene::from(scene))); });
+}
+
+RTC_API void rtcSetGeometryTransform(RTCGeometry geometry, unsigned int timeStep, RTCFormat format, const void* xfm) {
+  withGeometry(geometry, [&](Geometry& g) { g.setTransform(timeStep, format, xfm); });
+}
+
+// Embree's decomposition: M = T * R * S, with S upper triangular (scale, skew) plus a shift,
+// R the rotation of the (normalized) quaternion and T the translation.
+RTC_API void rtcSetGeometryTransformQuaternion(RTCGeometry geometry, unsigned int timeStep,
+                                               const RTCQuaternionDecomposition* qd) {
+  withGeometry(geometry, [&](Geometry& g) {
+    requireHandle(qd);
+    obvh::Affine3f s;
+    s.vx = {qd->scale_x, 0.f, 0.f};
+    s.vy = {qd->skew_xy, qd->scale_y, 0.f};
+    s.vz = {qd->skew_xz, qd->skew_yz, qd->scale_z};
+    s.p = {qd->shift_x, qd->shift_y, qd->shift_z};
+    float r = qd->quaternion_r, i = qd->quaternion_i, j = qd->quaternion_j, k = qd->quaternion_k;
+    const float norm = std::sqrt(r * r + i * i + j * j + k * k);
+    if (!(norm > 0.f)) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid quaternion");
+    r /= norm, i /= norm, j /= norm, k /= norm;
+    obvh::Affine3f rot;
+    rot.vx = {1 - 2 * (j * j + k * k), 2 * (i * j + r * k), 2 * (i * k - r * j)};
+    rot.vy = {2 * (i * j - r * k), 1 - 2 * (i * i + k * k), 2 * (j * k + r * i)};
+    rot.vz = {2 * (i * k + r * j), 2 * (j * k - r * i), 1 - 2 * (i * i + j * j)};
+    obvh::Affine3f m;
+    m.vx = rot.xfmVector(s.vx);
+    m.vy = rot.xfmVector(s.vy);
+    m.vz = rot.xfmVector(s.vz);
+    m.p = rot.xfmVector(s.p) + obvh::Vec3f{qd->translation_x, qd->translation_y, qd->translation_z};
+    g.setTransform(timeStep, m);
   });
 }
 
-RTC_API void rtcSetGeometryOccludedFilterFunction(RTCGeometry geometry, RTCFilterFunctionN) {
-  withGeometry(geometry, [](Geometry&) {
-    fail(RTC_ERROR_INVALID_OPERATION, "occlusion filter functions are not supported by obvh yet");
-  });
+RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float, RTCFormat format, void* xfm) {
+  withGeometry(geometry, [&](Geometry& g) { g.getTransform(format, xfm); });
 }
 
-RTC_API void rtcSetGeometryPointQueryFunction(RTCGeometry geometry, RTCPointQueryFunction) {
-  withGeometry(geometry, [](Geometry&) {
-    fail(RTC_ERROR_INVALID_OPERATION, "point queries are not supported by obvh yet");
-  });
-}
-
-RTC_API void rtcSetGeometryUserPrimitiveCount(RTCGeometry geometry, unsigned int) {
-  withGeometry(geometry, [](Geometry&) { fail(RTC_ERROR_INVALID_OPERATION, "operation only allowed for user geometries"); });
-}
-RTC_API void rtcSetGeometryBoundsFunction(RTCGeometry geometry, RTCBoundsFunction, void*) {
-  withGeometry(geometry, [](Geometry&) { fail(RTC_ERROR_INVALID_OPERATION, "operation only allowed for user geometries"); });
-}
-RTC_API void rtcSetGeometryIntersectFunction(RTCGeometry geometry, RTCIntersectFunctionN) {
-  withGeometry(geometry, [](Geometry&) { fail(RTC_ERROR_INVALID_OPERATION, "operation only allowed for user geometries"); });
-}
-RTC_API void rtcSetGeometryOccludedFunction(RTCGeometry geometry, RTCOccludedFunctionN) {
-  withGeometry(geometry, [](Geometry&) { fail(RTC_ERROR_INVALID_OPERATION, "operation only allowed for user geometries"); });
-}
-
-RTC_API void rtcSetGeometryInstancedScene(RTCGeometry geometry, RTCScene) { failForThisGeometry(geometry); }
-RTC_API void rtcSetGeometryTransform(RTCGeometry geometry, unsigned int, RTCFormat, const void*) {
-  failForThisGeometry(geometry);
-}
-RTC_API void rtcSetGeometryTransformQuaternion(RTCGeometry geometry, unsigned int,
-                                               const RTCQuaternionDecomposition*) {
-  failForThisGeometry(geometry);
-}
-RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float, RTCFormat, void*) { failForThisGeometry(geometry); }
 RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float) { failForThisGeometry(geometry); }
 RTC_API void rtcSetGeometryTopologyCount(RTCGeometry geometry, unsigned int) { failForThisGeometry(geometry); }
 RTC_API void rtcSetGeometrySubdivisionMode(RTCGeometry geometry, unsigned int, RTCSubdivisionMode) {
@@ -206,24 +237,3 @@ RTC_API unsigned int rtcGetGeometryOppositeHalfEdge(RTCGeometry geometry, unsign
   return failHalfEdge(geometry);
 }
 
-RTC_API void rtcInterpolate(const RTCInterpolateArguments* args) {
-  withGeometry(args ? args->geometry : nullptr, [](Geometry&) {
-    fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is not supported by obvh yet");
-  });
-}
-
-RTC_API void rtcInterpolateN(const RTCInterpolateNArguments* args) {
-  withGeometry(args ? args->geometry : nullptr, [](Geometry&) {
-    fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolateN is not supported by obvh yet");
-  });
-}
-
-// These are called from inside user-geometry callbacks, which obvh does not run yet; there is no
-// device to report on, so the error goes to the device-less error slot.
-RTC_API void rtcFilterIntersection(const RTCIntersectFunctionNArguments*, const RTCFilterFunctionNArguments*) {
-  reportError(nullptr, RTC_ERROR_INVALID_OPERATION, "rtcFilterIntersection is not supported by obvh yet");
-}
-
-RTC_API void rtcFilterOcclusion(const RTCOccludedFunctionNArguments*, const RTCFilterFunctionNArguments*) {
-  reportError(nullptr, RTC_ERROR_INVALID_OPERATION, "rtcFilterOcclusion is not supported by obvh yet");
-}

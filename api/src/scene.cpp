@@ -59,37 +59,107 @@ void Scene::setProgressMonitor(RTCProgressMonitorFunction fn, void* userPtr) {
 
 bool Scene::needsRebuild() const {
   if (modified_ || builtModificationCounters_.size() != geometries_.size()) return true;
-  for (size_t id = 0; id < geometries_.size(); ++id)
-    if (geometries_[id] && geometries_[id]->modificationCounter() != builtModificationCounters_[id]) return true;
+  for (size_t id = 0; id < geometries_.size(); ++id) {
+    const Geometry* g = geometries_[id].get();
+    if (!g) continue;
+    if (g->modificationCounter() != builtModificationCounters_[id]) return true;
+    if (g->instancedScene() && g->instancedScene()->buildGeneration() != builtChildGenerations_[id]) return true;
+  }
   return false;
 }
 
+namespace {
+
+MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
+  const BufferView& index = g.indexBuffer();
+  const BufferView& vertex = g.vertexBuffer();
+  MeshDesc mesh;
+  mesh.vertices = vertex.data();
+  mesh.vertexStride = vertex.byteStride;
+  mesh.vertexCount = vertex.itemCount;
+  mesh.indices = index.data();
+  mesh.indexStride = index.byteStride;
+  mesh.primCount = index.itemCount;
+  mesh.quads = g.isQuadMesh();
+  mesh.geomID = geomID;
+  mesh.mask = g.mask();
+  return mesh;
+}
+
+UserGeometryDesc userGeometryOf(const Geometry& g, uint32_t geomID) {
+  UserGeometryDesc desc;
+  desc.geomID = geomID;
+  desc.mask = g.mask();
+  const UserCallbacks& user = g.user();
+  if (!user.bounds) return desc;
+  desc.primitiveBounds.resize(user.primitiveCount);
+  for (unsigned prim = 0; prim < user.primitiveCount; ++prim) {
+    RTCBounds b{};
+    RTCBoundsFunctionArguments args{g.userData(), prim, 0, &b};
+    user.bounds(&args);
+    Box3f& box = desc.primitiveBounds[prim];
+    box.extend({b.lower_x, b.lower_y, b.lower_z});
+    box.extend({b.upper_x, b.upper_y, b.upper_z});
+    if (!(b.lower_x <= b.upper_x && b.lower_y <= b.upper_y && b.lower_z <= b.upper_z)) box = Box3f{};
+  }
+  return desc;
+}
+
+}  // namespace
+
 void Scene::rebuild() {
-  std::vector<MeshDesc> meshes;
+  SceneDesc desc;
+  desc.owner = this;
+  desc.geometryIdLimit = uint32_t(geometries_.size());
+  desc.intersectFiltered.assign(geometries_.size(), 0);
+  desc.occlusionFiltered.assign(geometries_.size(), 0);
+  const bool masksOff = !device_->config().rayMasks;
   builtModificationCounters_.assign(geometries_.size(), 0);
+  builtChildGenerations_.assign(geometries_.size(), 0);
+  builtGeometries_ = geometries_;
+  needsCallbacks_ = false;
   for (size_t id = 0; id < geometries_.size(); ++id) {
     Geometry* g = geometries_[id].get();
     if (!g) continue;
     builtModificationCounters_[id] = g->modificationCounter();
-    const BufferView& index = g->indexBuffer();
-    const BufferView& vertex = g->vertexBuffer();
-    if (!g->enabled() || !index.bound() || !vertex.bound() || !index.data() || !vertex.data()) continue;
-    MeshDesc mesh;
-    mesh.vertices = vertex.data();
-    mesh.vertexStride = vertex.byteStride;
-    mesh.vertexCount = vertex.itemCount;
-    mesh.indices = index.data();
-    mesh.indexStride = index.byteStride;
-    mesh.primCount = index.itemCount;
-    mesh.quads = g->isQuadMesh();
-    mesh.geomID = uint32_t(id);
-    mesh.mask = g->mask();
-    meshes.push_back(mesh);
+    if (!g->enabled()) continue;
+    desc.intersectFiltered[id] = g->intersectFilter() != nullptr;
+    desc.occlusionFiltered[id] = g->occludedFilter() != nullptr;
+    needsCallbacks_ |= desc.intersectFiltered[id] || desc.occlusionFiltered[id];
+    switch (g->type()) {
+      case RTC_GEOMETRY_TYPE_TRIANGLE:
+      case RTC_GEOMETRY_TYPE_QUAD:
+        if (g->indexBuffer().bound() && g->vertexBuffer().bound() && g->indexBuffer().data() && g->vertexBuffer().data())
+          desc.meshes.push_back(meshOf(*g, uint32_t(id)));
+        break;
+      case RTC_GEOMETRY_TYPE_USER:
+        desc.userGeometries.push_back(userGeometryOf(*g, uint32_t(id)));
+        needsCallbacks_ = true;
+        break;
+      case RTC_GEOMETRY_TYPE_INSTANCE: {
+        Scene* child = g->instancedScene();
+        if (!child) fail(RTC_ERROR_INVALID_OPERATION, "instance has no instanced scene");
+        if (child == this) fail(RTC_ERROR_INVALID_OPERATION, "a scene cannot instance itself");
+        child->requireCommitted();
+        builtChildGenerations_[id] = child->buildGeneration();
+        needsCallbacks_ |= child->needsCallbacks();
+        desc.instances.push_back({&child->accel(), g->transform(), uint32_t(id), g->mask()});
+        break;
+      }
+      default:
+        break;
+    }
+  }
+  if (masksOff) {
+    for (MeshDesc& m : desc.meshes) m.mask = 0xFFFFFFFFu;
+    for (InstanceDesc& i : desc.instances) i.mask = 0xFFFFFFFFu;
+    for (UserGeometryDesc& u : desc.userGeometries) u.mask = 0xFFFFFFFFu;
   }
   BuildOptions options;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
-  device_->execute([&] { accel_.build(meshes, uint32_t(geometries_.size()), options); });
+  device_->execute([&] { accel_.build(desc, options); });
+  ++buildGeneration_;
 
   const size_t memory = accel_.stats().memoryBytes;
   device_->reportMemory(ssize_t(memory) - ssize_t(reportedMemory_), true);

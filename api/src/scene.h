@@ -11,7 +11,7 @@
 #include "device.h"
 #include "geometry.h"
 #include "ref_counted.h"
-#include "scene/triangle_scene.h"
+#include "scene/scene_accel.h"
 
 namespace obvh::api {
 
@@ -38,7 +38,12 @@ class Scene : public RefCounted {
   void requireCommitted() const {
     if (modified_.load(std::memory_order_relaxed)) fail(RTC_ERROR_INVALID_OPERATION, "scene not committed");
   }
-  const TriangleScene& accel() const { return accel_; }
+  const SceneAccel& accel() const { return accel_; }
+  // The geometry a committed scene was built with (valid until the scene changes).
+  Geometry* builtGeometry(unsigned geomID) const { return builtGeometries_[geomID].get(); }
+  // Whether queries must call back into the API (filters or user geometry somewhere below).
+  bool needsCallbacks() const { return needsCallbacks_; }
+  uint64_t buildGeneration() const { return buildGeneration_; }
 
   static Scene* from(RTCScene handle) { return reinterpret_cast<Scene*>(handle); }
   RTCScene handle() { return reinterpret_cast<RTCScene>(this); }
@@ -56,7 +61,11 @@ class Scene : public RefCounted {
   RTCProgressMonitorFunction progress_ = nullptr;
   void* progressUserPtr_ = nullptr;
   std::atomic<bool> modified_{true};
-  TriangleScene accel_;
+  SceneAccel accel_;
+  std::vector<Ref<Geometry>> builtGeometries_;
+  std::vector<uint64_t> builtChildGenerations_;  // instanced scenes' generations at the last build
+  bool needsCallbacks_ = false;
+  uint64_t buildGeneration_ = 0;
   size_t reportedMemory_ = 0;
 };
 

@@ -76,11 +76,7 @@ RTC_API void rtcSetSceneBuildQuality(RTCScene scene, RTCBuildQuality quality) {
 }
 
 RTC_API void rtcSetSceneFlags(RTCScene scene, RTCSceneFlags flags) {
-  withScene(scene, [&](Scene& s) {
-    if (flags & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION)
-      fail(RTC_ERROR_INVALID_OPERATION, "context filter functions are not supported by obvh yet");
-    s.setFlags(flags);
-  });
+  withScene(scene, [&](Scene& s) { s.setFlags(flags); });
 }
 
 RTC_API RTCSceneFlags rtcGetSceneFlags(RTCScene scene) {

@@ -22,6 +22,7 @@ struct Hit {
   float u = 0.f, v = 0.f;
   uint32_t geomID = kInvalidId;
   uint32_t primID = kInvalidId;
+  uint32_t instID = kInvalidId;  // the instance the hit was found through, if any
 };
 
 }  // namespace obvh

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "intersect/watertight_triangle.h"
-#include "scene/triangle_scene.h"
+#include "scene/scene_accel.h"
 #include "test_scenes.h"
 #include "traversal/box_test.h"
 
@@ -16,7 +16,8 @@ namespace {
 
 struct Scene {
   test::MeshData mesh;
-  TriangleScene accel;
+  SceneAccel accel;
+  QueryState state;
 
   explicit Scene(test::MeshData m) : mesh(std::move(m)) {
     MeshDesc desc;
@@ -27,7 +28,10 @@ struct Scene {
     desc.indexStride = (mesh.quads ? 4 : 3) * sizeof(uint32_t);
     desc.primCount = mesh.primitiveCount();
     desc.quads = mesh.quads;
-    accel.build({desc}, 1, BuildOptions{});
+    SceneDesc scene;
+    scene.meshes = {desc};
+    scene.geometryIdLimit = 1;
+    accel.build(scene, BuildOptions{});
   }
 
   Vec3f vertex(uint32_t i) const { return {mesh.vertices[3 * i], mesh.vertices[3 * i + 1], mesh.vertices[3 * i + 2]}; }
@@ -62,10 +66,10 @@ TEST(Traversal, ClosestAndAnyHitMatchBruteForce) {
     ray.tfar = std::numeric_limits<float>::infinity();
     Ray a = ray, b = ray;
     Hit ha, hb;
-    const bool fa = scene.accel.intersect(a, ha);
+    const bool fa = scene.accel.intersect(a, ha, scene.state);
     const bool fb = scene.bruteForce(b, hb);
     ASSERT_EQ(fa, fb) << i;
-    EXPECT_EQ(scene.accel.occluded(ray), fb) << i;
+    EXPECT_EQ(scene.accel.occluded(ray, scene.state), fb) << i;
     if (fa) {
       ++hits;
       EXPECT_EQ(a.tfar, b.tfar) << i;  // same kernel, same triangle: bit-identical distance
@@ -89,7 +93,7 @@ TEST(Traversal, AxisParallelAndZeroComponentRaysMatchBruteForce) {
     ray.tfar = std::numeric_limits<float>::infinity();
     Ray a = ray, b = ray;
     Hit ha, hb;
-    ASSERT_EQ(scene.accel.intersect(a, ha), scene.bruteForce(b, hb)) << i;
+    ASSERT_EQ(scene.accel.intersect(a, ha, scene.state), scene.bruteForce(b, hb)) << i;
     EXPECT_EQ(a.tfar, b.tfar);
   }
 }

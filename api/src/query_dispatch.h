@@ -1,0 +1,50 @@
+// The API side of a ray query: converts rays, runs Embree's filter and user-geometry callbacks
+// for the backend (obvh::QueryCallbacks), and writes hits back in Embree's conventions.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include "geometry.h"
+#include "scene.h"
+#include "traversal/query_callbacks.h"
+
+namespace obvh::api {
+
+class QueryDispatch final : public QueryCallbacks {
+ public:
+  QueryDispatch(const Scene& scene, RTCIntersectContext& context);
+
+  // Single-ray queries on Embree's structs; true on a hit.
+  bool intersect(RTCRayHit& rayhit);
+  bool occluded(RTCRay& ray);
+
+  bool acceptHit(const void* owner, const Ray& ray, const Hit& candidate, float t, bool occlusion) override;
+  bool intersectUser(const void* owner, uint32_t geomID, uint32_t primID, Ray& ray, Hit& hit,
+                     const QueryState& state) override;
+  bool occludedUser(const void* owner, uint32_t geomID, uint32_t primID, Ray& ray, const QueryState& state) override;
+
+  // Runs the geometry's filter and then the context filter (when enabled) on filterArgs.
+  void runFilters(const Geometry& geometry, const RTCFilterFunctionNArguments* filterArgs, bool occlusion) const;
+
+ private:
+  RTCRay embreeRay(const Ray& ray, float tfar) const;
+
+  const Scene& scene_;
+  RTCIntersectContext& context_;
+  const RTCRay* original_ = nullptr;  // the application's ray being traced (id, flags, time)
+  QueryState state_;
+  bool masksOn_;
+};
+
+// What obvh passes as RTCIntersectFunctionNArguments / RTCOccludedFunctionNArguments: Embree's
+// struct followed by what rtcFilterIntersection / rtcFilterOcclusion need to find the filters.
+struct UserIntersectArguments : RTCIntersectFunctionNArguments {
+  const QueryDispatch* dispatch;
+  const Geometry* geometry;
+};
+struct UserOccludedArguments : RTCOccludedFunctionNArguments {
+  const QueryDispatch* dispatch;
+  const Geometry* geometry;
+};
+
+}  // namespace obvh::api

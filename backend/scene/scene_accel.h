@@ -1,0 +1,66 @@
+// A committed scene: a BVH over its triangles and quads, and a second BVH over its "objects"
+// (instances of other scenes and user-geometry primitives), queried one after the other.
+#pragma once
+
+#include <vector>
+
+#include "build/build_options.h"
+#include "bvh/binary_bvh.h"
+#include "intersect/ray.h"
+#include "intersect/triangle.h"
+#include "scene/scene_desc.h"
+#include "traversal/bvh2_traversal.h"
+#include "traversal/query_callbacks.h"
+
+namespace obvh {
+
+struct SceneStats {
+  size_t primitiveCount = 0;
+  size_t nodeCount = 0;
+  size_t leafCount = 0;
+  size_t memoryBytes = 0;
+};
+
+class SceneAccel {
+ public:
+  void build(const SceneDesc& desc, const BuildOptions& options);
+
+  const Box3f& bounds() const { return bounds_; }
+  SceneStats stats() const;
+
+  bool intersect(Ray& ray, Hit& hit, const QueryState& state) const;
+  bool occluded(const Ray& ray, const QueryState& state) const;
+
+ private:
+  enum class ObjectKind : uint32_t { Instance, UserPrimitive };
+  struct ObjectRef {
+    ObjectKind kind;
+    uint32_t index;   // into instances_ (Instance) or the geomID (UserPrimitive)
+    uint32_t primID;  // UserPrimitive only
+  };
+  struct Instance {
+    const SceneAccel* child;
+    Affine3f worldToLocal;
+    uint32_t geomID;
+  };
+
+  bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
+  bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
+  static Ray toLocal(const Instance& instance, const Ray& ray);
+
+  // Triangles and quads.
+  BinaryBvh triangleBvh_;
+  std::vector<StoredTriangle> triangles_;
+  // Instances and user primitives.
+  BinaryBvh objectBvh_;
+  std::vector<ObjectRef> objects_;
+  std::vector<Instance> instances_;
+
+  std::vector<uint32_t> geometryMasks_;
+  std::vector<uint8_t> intersectFiltered_, occlusionFiltered_;
+  const void* owner_ = nullptr;
+  Box3f bounds_;
+  TriangleBvhView triangleView_;
+};
+
+}  // namespace obvh

@@ -1,0 +1,38 @@
+// Everything the API layer hands the backend to build one scene.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "math/affine.h"
+#include "scene/mesh_desc.h"
+
+namespace obvh {
+
+class SceneAccel;
+
+struct InstanceDesc {
+  const SceneAccel* child = nullptr;  // a committed scene; it must outlive this one's use of it
+  Affine3f localToWorld;
+  uint32_t geomID = 0;
+  uint32_t mask = 0xFFFFFFFFu;
+};
+
+// Embree user geometry: the API computed each primitive's bounds with the user's callback.
+struct UserGeometryDesc {
+  uint32_t geomID = 0;
+  uint32_t mask = 0xFFFFFFFFu;
+  std::vector<Box3f> primitiveBounds;  // an empty or non-finite box skips the primitive
+};
+
+struct SceneDesc {
+  std::vector<MeshDesc> meshes;
+  std::vector<InstanceDesc> instances;
+  std::vector<UserGeometryDesc> userGeometries;
+  uint32_t geometryIdLimit = 0;               // one more than the largest geomID
+  std::vector<uint8_t> intersectFiltered;     // per geomID: has an intersection filter
+  std::vector<uint8_t> occlusionFiltered;     // per geomID: has an occlusion filter
+  const void* owner = nullptr;                // handed back to QueryCallbacks
+};
+
+}  // namespace obvh
