@@ -49,7 +49,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
     if (!isUsableBox(world)) continue;
     objectRefs.push_back({world, uint32_t(objects.size())});
     objects.push_back({ObjectKind::Instance, uint32_t(instances_.size()), 0});
-    instances_.push_back({inst.child, inst.localToWorld.inverse(), inst.geomID});
+    instances_.push_back({inst.child, Affine3d::inverseOf(inst.localToWorld), inst.geomID});
   }
   for (const UserGeometryDesc& user : desc.userGeometries)
     for (size_t prim = 0; prim < user.primitiveBounds.size(); ++prim) {

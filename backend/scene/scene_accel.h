@@ -40,7 +40,7 @@ class SceneAccel {
   };
   struct Instance {
     const SceneAccel* child;
-    Affine3f worldToLocal;
+    Affine3d worldToLocal;
     uint32_t geomID;
   };
 

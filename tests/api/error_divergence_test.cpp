@@ -145,3 +145,43 @@ TEST(RefCounts, ObjectsStayAliveWhileReferenced) {
 }
 
 }  // namespace
+
+namespace {
+
+// Traces one ray with the given mask against a triangle whose geometry mask is geometryMask.
+bool hitsWithMasks(const char* config, unsigned geometryMask, unsigned rayMask, ssize_t* maskProperty) {
+  RTCDevice device = rtcNewDevice(config);
+  *maskProperty = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED);
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  static const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  static const unsigned idx[3] = {0, 1, 2};
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, v, 0, 12, 3);
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0, 12, 1);
+  rtcSetGeometryMask(g, geometryMask);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+  rtcCommitScene(scene);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = 0.2f, rh.ray.org_y = 0.2f, rh.ray.org_z = 1.f, rh.ray.dir_z = -1.f;
+  rh.ray.tfar = INFINITY, rh.ray.mask = rayMask, rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene, &context, &rh);
+  rtcReleaseScene(scene);
+  rtcReleaseDevice(device);
+  return rh.hit.geomID == 0;
+}
+
+TEST(DeviceConfig, RayMaskOffIgnoresMasks) {
+  ssize_t property = -1;
+  EXPECT_FALSE(hitsWithMasks("ray_mask=on", 0xFFFFFFFFu, 0u, &property));  // Embree's default: mask 0 hits nothing
+  EXPECT_EQ(property, 1);
+  EXPECT_FALSE(hitsWithMasks(nullptr, 0x2u, 0x1u, &property));
+  EXPECT_TRUE(hitsWithMasks("ray_mask=off", 0xFFFFFFFFu, 0u, &property));
+  EXPECT_EQ(property, 0);
+  EXPECT_TRUE(hitsWithMasks("ray_mask=off", 0x2u, 0x1u, &property));
+}
+
+}  // namespace

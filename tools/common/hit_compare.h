@@ -38,6 +38,8 @@ struct ExactPart {
   double u = 0.0, v = 0.0;     // in Embree's convention (quads: the quad's own parameterisation)
   double edgeDistance = 0.0;   // in-plane distance of the hit point to the boundary, positive inside
   double lineToEdges = 0.0;    // 3D distance between the ray's line and the triangle's edges
+  double cosine = 0.0;         // |cos| of the angle between the ray and the triangle's normal
+  double minHeight = 0.0;      // smallest altitude of the triangle
 };
 std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID);
 
