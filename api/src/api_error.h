@@ -29,9 +29,11 @@ void reportError(Device* device, RTCError code, const char* message);
 // Returns and clears the stored error.
 RTCError takeError(Device* device);
 
-// Runs body; any exception becomes an RTCError on device and the call returns fallback.
+// Runs body; any exception becomes an RTCError on device and the call returns fallback. Not
+// noexcept on purpose: an error callback may throw (embree_verify's does), and as with Embree that
+// exception then propagates to the caller of the API function.
 template <typename Result, typename Body>
-Result guarded(Device* device, Result fallback, Body&& body) noexcept {
+Result guarded(Device* device, Result fallback, Body&& body) {
   try {
     return body();
   } catch (const ApiError& e) {
@@ -47,7 +49,7 @@ Result guarded(Device* device, Result fallback, Body&& body) noexcept {
 }
 
 template <typename Body>
-void guarded(Device* device, Body&& body) noexcept {
+void guarded(Device* device, Body&& body) {
   guarded(device, 0, [&] {
     body();
     return 0;

@@ -1,5 +1,7 @@
 #include "device.h"
 
+#include <cstdio>
+
 #include "api_error.h"
 
 namespace obvh::api {
@@ -37,6 +39,8 @@ void Device::reportMemory(ssize_t bytes, bool post) {
 }
 
 void Device::recordError(RTCError code, const char* message) {
+  // verbose=1 (e.g. through OBVH_CONFIG) makes errors visible in programs that do not print them.
+  if (config_.verbose >= 1) std::fprintf(stderr, "obvh: error %d: %s\n", int(code), message);
   RTCErrorFunction fn;
   void* userPtr;
   {

@@ -93,19 +93,19 @@ void Geometry::setBoundsFunction(RTCBoundsFunction fn, void* userPtr) {
   requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
   user_.bounds = fn;
   user_.boundsUserPtr = userPtr;
-  markModified();
+  ++modCounter_;
 }
 
 void Geometry::setIntersectFunction(RTCIntersectFunctionN fn) {
   requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
   user_.intersect = fn;
-  markModified();
+  ++modCounter_;
 }
 
 void Geometry::setOccludedFunction(RTCOccludedFunctionN fn) {
   requireType(*this, RTC_GEOMETRY_TYPE_USER, "operation only allowed for user geometries");
   user_.occluded = fn;
-  markModified();
+  ++modCounter_;
 }
 
 const BufferView& Geometry::attributeBuffer(unsigned slot) const {
@@ -130,7 +130,7 @@ BufferView& Geometry::view(RTCBufferType type, unsigned slot) {
 }
 
 void Geometry::setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, const Ref<Buffer>& buffer,
-                         size_t byteOffset, size_t byteStride, size_t itemCount) {
+                         size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
   if (!isMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   switch (type) {
     case RTC_BUFFER_TYPE_INDEX:
@@ -152,7 +152,7 @@ void Geometry::setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, co
   const uintptr_t start = reinterpret_cast<uintptr_t>(buffer->data()) + byteOffset;
   if ((start & 3u) != 0 || (byteStride & 3u) != 0) fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
   // Embree does not check this; obvh does, because reading past the buffer could crash.
-  if (itemCount > 0 && byteOffset + (itemCount - 1) * byteStride + formatByteSize(format) > buffer->size())
+  if (checkRange && itemCount > 0 && byteOffset + (itemCount - 1) * byteStride + formatByteSize(format) > buffer->size())
     fail(RTC_ERROR_INVALID_ARGUMENT, "buffer range out of bounds");
   if (itemCount > 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "buffer too large");
 

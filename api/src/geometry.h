@@ -33,8 +33,10 @@ class Geometry : public RefCounted {
   Device* device() const { return device_.get(); }
   RTCGeometryType type() const { return type_; }
 
+  // checkRange: the buffer's size is known (rtcSetGeometryBuffer, rtcSetNewGeometryBuffer), so a
+  // range past its end is rejected; shared pointers carry no size to check against.
   void setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, const Ref<Buffer>& buffer,
-                 size_t byteOffset, size_t byteStride, size_t itemCount);
+                 size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange = true);
   // nullptr when nothing is bound; throws for a type or slot the geometry does not have.
   void* bufferData(RTCBufferType type, unsigned slot);
   void updateBuffer(RTCBufferType type, unsigned slot);
@@ -62,8 +64,9 @@ class Geometry : public RefCounted {
   const UserCallbacks& user() const { return user_; }
 
   // Filters (any geometry type).
-  void setIntersectFilter(RTCFilterFunctionN fn) { intersectFilter_ = fn; markModified(); }
-  void setOccludedFilter(RTCFilterFunctionN fn) { occludedFilter_ = fn; markModified(); }
+  // Callbacks do not need a geometry commit (as in Embree); a scene commit picks them up.
+  void setIntersectFilter(RTCFilterFunctionN fn) { intersectFilter_ = fn; ++modCounter_; }
+  void setOccludedFilter(RTCFilterFunctionN fn) { occludedFilter_ = fn; ++modCounter_; }
   RTCFilterFunctionN intersectFilter() const { return intersectFilter_; }
   RTCFilterFunctionN occludedFilter() const { return occludedFilter_; }
   void setPointQueryFunction(RTCPointQueryFunction fn) { pointQuery_ = fn; }

@@ -107,7 +107,7 @@ RTC_API void rtcSetSharedGeometryBuffer(RTCGeometry geometry, RTCBufferType type
     // The application promises itemCount items; the shared buffer spans exactly that range.
     const size_t byteSize = byteOffset + byteStride * itemCount;
     Ref<Buffer> shared(new Buffer(g.device(), const_cast<void*>(ptr), byteSize), true);
-    g.setBuffer(type, slot, format, shared, byteOffset, byteStride, itemCount);
+    g.setBuffer(type, slot, format, shared, byteOffset, byteStride, itemCount, false);
   });
 }
 

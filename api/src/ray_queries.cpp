@@ -170,7 +170,8 @@ RTC_API void rtcOccludedNp(RTCScene scene, RTCIntersectContext* context, const R
     for (unsigned i = 0; i < N; ++i) {
       RTCRay one = {ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->tnear[i], ray->dir_x[i], ray->dir_y[i],
                     ray->dir_z[i], ray->time ? ray->time[i] : 0.f, ray->tfar[i],
-                    ray->mask ? ray->mask[i] : 0xFFFFFFFFu, 0u, 0u};
+                    ray->mask ? ray->mask[i] : 0xFFFFFFFFu, ray->id ? ray->id[i] : 0u,
+                    ray->flags ? ray->flags[i] : 0u};
       if (d.occluded(one)) ray->tfar[i] = one.tfar;
     }
   });

@@ -221,7 +221,7 @@ TEST(CrossvalStreams, IntersectNMAndNp) {
   expectStreamAgrees(f, na, nb, "rtcIntersectNp");
 }
 
-TEST(CrossvalStreams, Occluded1MAndNM) {
+TEST(CrossvalStreams, Occluded1MNMAndNp) {
   Fixture f;
   std::vector<RTCRay> a(f.rays.begin(), f.rays.begin() + 20000), b = a;
   f.libs.embree->rtcOccluded1M(f.reference.scene(), &f.context, a.data(), unsigned(a.size()), sizeof(RTCRay));
@@ -251,6 +251,33 @@ TEST(CrossvalStreams, Occluded1MAndNM) {
       judgeOcclusion(f.scene, f.rays[size_t(m) * N + i], pa[m].tfar[i] == hit, pb[m].tfar[i] == hit, nm);
   std::printf("[crossval] %-34s %s\n", "rtcOccludedNM (N=4)", nm.summary().c_str());
   EXPECT_EQ(nm.mismatched, 0u) << nm.summary();
+
+  // Np: one array per member.
+  const size_t n = 20000;
+  struct Soa {
+    std::vector<float> ox, oy, oz, tn, dx, dy, dz, time, tf;
+    std::vector<unsigned> mask, id, flags;
+    RTCRayNp np{};
+    Soa(const std::vector<RTCRay>& rays, size_t count) {
+      for (size_t i = 0; i < count; ++i) {
+        const RTCRay& r = rays[i];
+        ox.push_back(r.org_x), oy.push_back(r.org_y), oz.push_back(r.org_z), tn.push_back(r.tnear);
+        dx.push_back(r.dir_x), dy.push_back(r.dir_y), dz.push_back(r.dir_z), time.push_back(0.f), tf.push_back(r.tfar);
+        mask.push_back(r.mask), id.push_back(unsigned(i)), flags.push_back(0);
+      }
+      np = {ox.data(), oy.data(), oz.data(), tn.data(), dx.data(), dy.data(), dz.data(), time.data(), tf.data(),
+            mask.data(), id.data(), flags.data()};
+    }
+  } sa(f.rays, n), sb(f.rays, n);
+  f.libs.embree->rtcOccludedNp(f.reference.scene(), &f.context, &sa.np, unsigned(n));
+  f.libs.obvh->rtcOccludedNp(f.candidate.scene(), &f.context, &sb.np, unsigned(n));
+  CrossvalCounts np;
+  for (size_t i = 0; i < n; ++i) judgeOcclusion(f.scene, f.rays[i], sa.tf[i] == hit, sb.tf[i] == hit, np);
+  std::printf("[crossval] %-34s %s\n", "rtcOccludedNp", np.summary().c_str());
+  EXPECT_EQ(np.mismatched, 0u) << np.summary();
+  size_t tfarDiffers = 0;
+  for (size_t i = 0; i < n; ++i) tfarDiffers += (sa.tf[i] == hit) == (sb.tf[i] == hit) && sa.tf[i] != sb.tf[i];
+  EXPECT_EQ(tfarDiffers, 0u) << "unoccluded rays must keep their tfar";
 }
 
 }  // namespace
