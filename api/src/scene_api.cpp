@@ -102,29 +102,6 @@ RTC_API void rtcGetSceneLinearBounds(RTCScene scene, RTCLinearBounds* bounds_o) 
   });
 }
 
-namespace {
-bool failPointQuery(RTCScene scene) {
-  withScene(scene, [](Scene&) { fail(RTC_ERROR_INVALID_OPERATION, "point queries are not supported by obvh yet"); });
-  return false;
-}
-}  // namespace
-
-RTC_API bool rtcPointQuery(RTCScene scene, RTCPointQuery*, RTCPointQueryContext*, RTCPointQueryFunction, void*) {
-  return failPointQuery(scene);
-}
-RTC_API bool rtcPointQuery4(const int*, RTCScene scene, RTCPointQuery4*, RTCPointQueryContext*, RTCPointQueryFunction,
-                            void**) {
-  return failPointQuery(scene);
-}
-RTC_API bool rtcPointQuery8(const int*, RTCScene scene, RTCPointQuery8*, RTCPointQueryContext*, RTCPointQueryFunction,
-                            void**) {
-  return failPointQuery(scene);
-}
-RTC_API bool rtcPointQuery16(const int*, RTCScene scene, RTCPointQuery16*, RTCPointQueryContext*,
-                             RTCPointQueryFunction, void**) {
-  return failPointQuery(scene);
-}
-
 RTC_API void rtcCollide(RTCScene scene0, RTCScene, RTCCollideFunc, void*) {
   withScene(scene0, [](Scene&) { fail(RTC_ERROR_INVALID_OPERATION, "rtcCollide is not supported by obvh yet"); });
 }

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "build/binned_sah_builder.h"
@@ -20,6 +21,55 @@ bool isUsableBox(const Box3f& b) {
 
 // Embree instancing is one level deep in Debian's build: instances inside instanced scenes are skipped.
 constexpr int kMaxInstanceLevel = 1;
+
+// s when the transform's linear part is s times a rotation, else 0.
+float uniformScaleOf(const Affine3f& a) {
+  const float xx = dot(a.vx, a.vx), yy = dot(a.vy, a.vy), zz = dot(a.vz, a.vz);
+  const float tolerance = 1e-5f * (xx + yy + zz);
+  const bool orthogonal = std::fabs(dot(a.vx, a.vy)) <= tolerance && std::fabs(dot(a.vx, a.vz)) <= tolerance &&
+                          std::fabs(dot(a.vy, a.vz)) <= tolerance;
+  const bool uniform = std::fabs(xx - yy) <= tolerance && std::fabs(xx - zz) <= tolerance;
+  return orthogonal && uniform ? std::sqrt(xx) : 0.f;
+}
+
+// Frobenius norm: an upper bound of how much the linear part can stretch a length.
+float operatorNormBound(const Affine3d& a) {
+  double sum = 0.0;
+  for (const auto& row : a.l)
+    for (double v : row) sum += v * v;
+  return float(std::sqrt(sum));
+}
+
+float distanceSquaredToBox(const Vec3f& p, const Box3f& b) {
+  float d = 0.f;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float e = std::max(std::max(b.lower[axis] - p[axis], 0.f), p[axis] - b.upper[axis]);
+    d += e * e;
+  }
+  return d;
+}
+
+// Stack traversal of a BVH with a sphere whose radius may shrink while it runs.
+template <typename Radius, typename LeafVisitor>
+void traverseSphere(const BinaryBvh& bvh, const Vec3f& p, Radius&& radius, LeafVisitor&& visit) {
+  if (bvh.empty()) return;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Bvh2Node& node = bvh.nodes[stack[--top]];
+    const float r = radius();
+    if (!(distanceSquaredToBox(p, node.bounds) <= r * r)) continue;
+    if (node.isLeaf()) {
+      visit(node);
+      continue;
+    }
+    if (top + 2 <= 128) {
+      stack[top++] = node.firstChildOrPrim + 1;
+      stack[top++] = node.firstChildOrPrim;
+    }
+  }
+}
 
 }  // namespace
 
@@ -48,14 +98,18 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
     const Box3f world = inst.localToWorld.xfmBounds(inst.child->bounds());
     if (!isUsableBox(world)) continue;
     objectRefs.push_back({world, uint32_t(objects.size())});
-    objects.push_back({ObjectKind::Instance, uint32_t(instances_.size()), 0});
-    instances_.push_back({inst.child, Affine3d::inverseOf(inst.localToWorld), inst.geomID});
+    objects.push_back({ObjectKind::Instance, uint32_t(instances_.size()), 0, world});
+    const Affine3d worldToLocal = Affine3d::inverseOf(inst.localToWorld);
+    // Embree's similarity scale is that of the world-to-instance direction.
+    const float scale = uniformScaleOf(inst.localToWorld);
+    instances_.push_back({inst.child, worldToLocal, inst.geomID, inst.localToWorld, scale > 0.f ? 1.f / scale : 0.f,
+                          operatorNormBound(worldToLocal)});
   }
   for (const UserGeometryDesc& user : desc.userGeometries)
     for (size_t prim = 0; prim < user.primitiveBounds.size(); ++prim) {
       if (!isUsableBox(user.primitiveBounds[prim])) continue;
       objectRefs.push_back({user.primitiveBounds[prim], uint32_t(objects.size())});
-      objects.push_back({ObjectKind::UserPrimitive, user.geomID, uint32_t(prim)});
+      objects.push_back({ObjectKind::UserPrimitive, user.geomID, uint32_t(prim), user.primitiveBounds[prim]});
     }
   objectBvh_ = buildBinnedSah(objectRefs, options);
   objects_.resize(objectBvh_.primIndices.size());
@@ -131,6 +185,48 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state) const {
     return false;
   });
   return found;
+}
+
+bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, const PointQueryInstance* instance,
+                            float radiusScale) const {
+  bool changed = false;
+  auto radius = [&] { return callbacks.radius() * radiusScale; };
+  // Quads are stored as two triangles; the callback must see each quad once.
+  std::vector<uint64_t> visitedQuads;
+  traverseSphere(triangleBvh_, p, radius, [&](const Bvh2Node& leaf) {
+    for (uint32_t i = 0; i < leaf.primCount; ++i) {
+      const StoredTriangle& tri = triangles_[leaf.firstChildOrPrim + i];
+      Box3f b;
+      b.extend(tri.v0);
+      b.extend(tri.v1);
+      b.extend(tri.v2);
+      const float r = radius();
+      if (!(distanceSquaredToBox(p, b) <= r * r)) continue;
+      if (tri.kind != TriangleKind::Triangle) {
+        const uint64_t key = (uint64_t(tri.geomID) << 32) | tri.primID;
+        if (std::find(visitedQuads.begin(), visitedQuads.end(), key) != visitedQuads.end()) continue;
+        visitedQuads.push_back(key);
+      }
+      changed |= callbacks.visit(owner_, tri.geomID, tri.primID, instance);
+    }
+  });
+  traverseSphere(objectBvh_, p, radius, [&](const Bvh2Node& leaf) {
+    for (uint32_t i = 0; i < leaf.primCount; ++i) {
+      const ObjectRef& object = objects_[leaf.firstChildOrPrim + i];
+      const float r = radius();
+      if (!(distanceSquaredToBox(p, object.bounds) <= r * r)) continue;
+      if (object.kind == ObjectKind::UserPrimitive) {
+        changed |= callbacks.visit(owner_, object.index, object.primID, instance);
+        continue;
+      }
+      if (instance) continue;  // one instance level, as for rays
+      const Instance& inst = instances_[object.index];
+      const PointQueryInstance frame{inst.geomID, &inst.localToWorld, inst.similarityScale};
+      changed |= inst.child->pointQuery(inst.worldToLocal.xfmPoint(p), callbacks, &frame,
+                                        radiusScale * inst.radiusToLocal);
+    }
+  });
+  return changed;
 }
 
 SceneStats SceneAccel::stats() const {

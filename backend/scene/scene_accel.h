@@ -10,6 +10,7 @@
 #include "intersect/triangle.h"
 #include "scene/scene_desc.h"
 #include "traversal/bvh2_traversal.h"
+#include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
 
 namespace obvh {
@@ -30,6 +31,10 @@ class SceneAccel {
 
   bool intersect(Ray& ray, Hit& hit, const QueryState& state) const;
   bool occluded(const Ray& ray, const QueryState& state) const;
+  // Visits every primitive whose bounds overlap the sphere around point (world space when
+  // instance is null); returns true when any callback reported a change.
+  bool pointQuery(const Vec3f& point, PointQueryCallbacks& callbacks, const PointQueryInstance* instance = nullptr,
+                  float radiusScale = 1.f) const;
 
  private:
   enum class ObjectKind : uint32_t { Instance, UserPrimitive };
@@ -37,11 +42,15 @@ class SceneAccel {
     ObjectKind kind;
     uint32_t index;   // into instances_ (Instance) or the geomID (UserPrimitive)
     uint32_t primID;  // UserPrimitive only
+    Box3f bounds;     // world bounds, for point queries
   };
   struct Instance {
     const SceneAccel* child;
     Affine3d worldToLocal;
     uint32_t geomID;
+    Affine3f localToWorld;
+    float similarityScale;  // see PointQueryInstance
+    float radiusToLocal;    // bound on how much worldToLocal stretches lengths
   };
 
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
