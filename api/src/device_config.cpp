@@ -44,10 +44,12 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       // are ignored as Embree ignores what it does not know. obvh's layouts are plain names.
       if (value == "bvh2") {
         config.accel = AccelLayout::Bvh2;
-      } else if (value == "bvh4" || value == "bvh8" || value == "obb" || value == "hybrid") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=" + value + " is not implemented by obvh yet (available: bvh2)");
+      } else if (value == "bvh4") {
+        config.accel = AccelLayout::Bvh4;
+      } else if (value == "bvh8" || value == "obb" || value == "hybrid") {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=" + value + " is not implemented by obvh yet (available: bvh2, bvh4)");
       } else if (value.find('.') == std::string::npos && value != "default") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2)");
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2, bvh4)");
       }
     } else if (name == "intersector") {
       if (value == "watertight") {

@@ -3,15 +3,16 @@
 
 #include <string>
 
+#include "build/build_options.h"
+
 namespace obvh::api {
 
-enum class AccelLayout { Bvh2 };
 enum class IntersectorMode { Watertight };
 
 struct DeviceConfig {
   int threads = 0;  // 0: TBB's default
   int verbose = 0;
-  AccelLayout accel = AccelLayout::Bvh2;
+  AccelLayout accel = AccelLayout::Bvh4;  // the fastest layout is the default
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
   int maxLeafSize = 4;

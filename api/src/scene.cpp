@@ -156,6 +156,7 @@ void Scene::rebuild() {
     for (UserGeometryDesc& u : desc.userGeometries) u.mask = 0xFFFFFFFFu;
   }
   BuildOptions options;
+  options.layout = device_->config().accel;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
   device_->execute([&] { accel_.build(desc, options); });

@@ -3,7 +3,11 @@
 
 namespace obvh {
 
+// How the binary tree is laid out for traversal.
+enum class AccelLayout { Bvh2, Bvh4 };
+
 struct BuildOptions {
+  AccelLayout layout = AccelLayout::Bvh4;
   int binCount = 32;
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit

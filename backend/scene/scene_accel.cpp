@@ -85,7 +85,10 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   occlusionFiltered_.resize(desc.geometryIdLimit, 0);
 
   CollectedPrimitives collected = collectPrimitives(desc.meshes);
-  triangleBvh_ = buildBinnedSah(collected.refs, options);
+  layout_ = options.layout;
+  BuildOptions triangleOptions = options;
+  if (layout_ == AccelLayout::Bvh4) triangleOptions.maxLeafSize = std::min(options.maxLeafSize, 15);  // 4-bit count
+  triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });
@@ -118,10 +121,18 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   bounds_ = Box3f{};
   if (!triangleBvh_.empty()) bounds_.extend(triangleBvh_.nodes[0].bounds);
   if (!objectBvh_.empty()) bounds_.extend(objectBvh_.nodes[0].bounds);
+  const TriangleSet set{triangles_.data(), geometryMasks_.data(), intersectFiltered_.data(), occlusionFiltered_.data(),
+                        owner_};
   triangleView_ = TriangleBvhView{};
-  if (!triangleBvh_.empty())
-    triangleView_ = {triangleBvh_.nodes.data(), triangles_.data(), geometryMasks_.data(),
-                     intersectFiltered_.data(),  occlusionFiltered_.data(), owner_};
+  triangleView4_ = TriangleBvh4View{};
+  triangleBvh4_ = Bvh4{};
+  if (!triangleBvh_.empty()) {
+    triangleView_ = {triangleBvh_.nodes.data(), set};
+    if (layout_ == AccelLayout::Bvh4) {
+      triangleBvh4_ = collapseToBvh4(triangleBvh_);
+      triangleView4_ = {triangleBvh4_.nodes.data(), triangleBvh4_.rootChild, set};
+    }
+  }
 }
 
 Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {
@@ -162,7 +173,11 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
 }
 
 bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state) const {
-  bool found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state);
+  bool found = false;
+  if (layout_ == AccelLayout::Bvh4)
+    found = !triangleView4_.empty() && intersectClosestBvh4(triangleView4_, ray, hit, state);
+  else
+    found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state);
   if (objectBvh_.empty()) return found;
   traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i)
@@ -173,7 +188,11 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state) const {
 }
 
 bool SceneAccel::occluded(const Ray& ray, const QueryState& state) const {
-  if (!triangleView_.empty() && intersectAny(triangleView_, ray, state)) return true;
+  if (layout_ == AccelLayout::Bvh4) {
+    if (!triangleView4_.empty() && intersectAnyBvh4(triangleView4_, ray, state)) return true;
+  } else if (!triangleView_.empty() && intersectAny(triangleView_, ray, state)) {
+    return true;
+  }
   if (objectBvh_.empty()) return false;
   bool found = false;
   traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
@@ -232,10 +251,12 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
 SceneStats SceneAccel::stats() const {
   SceneStats s;
   s.primitiveCount = triangles_.size() + objects_.size();
-  s.nodeCount = triangleBvh_.nodes.size() + objectBvh_.nodes.size();
+  s.nodeCount = (layout_ == AccelLayout::Bvh4 ? triangleBvh4_.nodes.size() : triangleBvh_.nodes.size()) +
+                objectBvh_.nodes.size();
   for (const Bvh2Node& node : triangleBvh_.nodes) s.leafCount += node.isLeaf() ? 1 : 0;
   for (const Bvh2Node& node : objectBvh_.nodes) s.leafCount += node.isLeaf() ? 1 : 0;
-  s.memoryBytes = s.nodeCount * sizeof(Bvh2Node) + triangles_.size() * sizeof(StoredTriangle) +
+  s.memoryBytes = triangleBvh_.nodes.size() * sizeof(Bvh2Node) + triangleBvh4_.nodes.size() * sizeof(Bvh4Node) +
+                  objectBvh_.nodes.size() * sizeof(Bvh2Node) + triangles_.size() * sizeof(StoredTriangle) +
                   objects_.size() * sizeof(ObjectRef) + instances_.size() * sizeof(Instance) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2);
   return s;

@@ -9,7 +9,9 @@
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
 #include "scene/scene_desc.h"
+#include "bvh/bvh4.h"
 #include "traversal/bvh2_traversal.h"
+#include "traversal/bvh4_traversal.h"
 #include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
 
@@ -57,8 +59,11 @@ class SceneAccel {
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);
 
-  // Triangles and quads.
+  // Triangles and quads: the binary tree, and its four-wide form when that layout is selected.
+  AccelLayout layout_ = AccelLayout::Bvh4;
   BinaryBvh triangleBvh_;
+  Bvh4 triangleBvh4_;
+  TriangleBvh4View triangleView4_;
   std::vector<StoredTriangle> triangles_;
   // Instances and user primitives.
   BinaryBvh objectBvh_;

@@ -1,23 +1,14 @@
-// Ray queries against the triangle BVH of one scene.
+// Ray queries against a binary triangle BVH (the scalar reference layout, accel=bvh2).
 #pragma once
 
-#include <cstdint>
-
 #include "bvh/binary_bvh.h"
-#include "intersect/ray.h"
-#include "intersect/triangle.h"
-#include "traversal/query_callbacks.h"
+#include "traversal/triangle_leaf.h"
 
 namespace obvh {
 
-// Read-only view of what traversal needs; the scene owns the data.
 struct TriangleBvhView {
   const Bvh2Node* nodes = nullptr;
-  const StoredTriangle* triangles = nullptr;     // in leaf order
-  const uint32_t* geometryMasks = nullptr;       // indexed by geomID
-  const uint8_t* intersectFiltered = nullptr;    // geomID has an intersection filter
-  const uint8_t* occlusionFiltered = nullptr;    // geomID has an occlusion filter
-  const void* owner = nullptr;                   // passed back to QueryCallbacks
+  TriangleSet set;
   bool empty() const { return nodes == nullptr; }
 };
 

@@ -57,6 +57,32 @@ TEST(CrossvalIntersect, BoxesOfTrianglesAndQuads) {
   expectNoMismatch("boxes quad edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 8)));
 }
 
+// The binary layout (accel=bvh2, the scalar reference) against Embree too; the other tests use
+// the default layout.
+TEST(CrossvalIntersect, BinaryLayoutMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  RTCDevice bvh2 = libs.obvh->rtcNewDevice("accel=bvh2");
+  ASSERT_NE(bvh2, nullptr);
+  const float center[3] = {0.f, 0.f, 0.f};
+  SceneData scene = single("icosphere+soup", icosphere(4, 1.f, center));
+  scene.meshes.push_back(randomTriangleSoup(10000, 19));
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  tools::CommittedScene candidate(*libs.obvh, bvh2, scene);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  CrossvalCounts counts;
+  for (const RTCRay& ray : mixedRays(scene, kRandomRays, kGridSide, 20)) {
+    RTCRayHit a{}, b{};
+    a.ray = b.ray = ray;
+    a.hit.geomID = b.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    libs.embree->rtcIntersect1(reference.scene(), &context, &a);
+    libs.obvh->rtcIntersect1(candidate.scene(), &context, &b);
+    counts.add(tools::compareHits(scene, ray, tools::toHitRecord(a), tools::toHitRecord(b)), ray);
+  }
+  expectNoMismatch("accel=bvh2", counts);
+  libs.obvh->rtcReleaseDevice(bvh2);
+}
+
 TEST(CrossvalIntersect, NonPlanarQuadGrid) {
   const SceneData scene = single("quads", quadGrid(100, 0.4f, 9));
   expectNoMismatch("quad grid mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 10)));

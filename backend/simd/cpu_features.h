@@ -1,0 +1,8 @@
+// Run-time detection of the instruction sets the kernels can use.
+#pragma once
+
+namespace obvh::simd {
+
+bool cpuHasSse42();
+
+}  // namespace obvh::simd

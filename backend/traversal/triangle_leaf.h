@@ -1,0 +1,74 @@
+// Testing a leaf's triangles: shared by every BVH layout's traversal.
+#pragma once
+
+#include <cstdint>
+
+#include "intersect/ray.h"
+#include "intersect/triangle.h"
+#include "intersect/watertight_triangle.h"
+#include "traversal/query_callbacks.h"
+
+namespace obvh {
+
+// The triangles of a scene and the per-geometry data their tests need.
+struct TriangleSet {
+  const StoredTriangle* triangles = nullptr;  // in leaf order
+  const uint32_t* geometryMasks = nullptr;    // indexed by geomID
+  const uint8_t* intersectFiltered = nullptr; // geomID has an intersection filter
+  const uint8_t* occlusionFiltered = nullptr; // geomID has an occlusion filter
+  const void* owner = nullptr;                // passed back to QueryCallbacks
+};
+
+inline Hit makeTriangleHit(const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
+  Hit hit;
+  hit.geomID = tri.geomID;
+  hit.primID = tri.primID;
+  hit.instID = instID;
+  hit.Ng = embreeGeometryNormal(tri.v0, tri.v1, tri.v2);
+  const bool secondHalf = tri.kind == TriangleKind::QuadSecondHalf;
+  hit.u = secondHalf ? 1.f - th.u : th.u;
+  hit.v = secondHalf ? 1.f - th.v : th.v;
+  return hit;
+}
+
+inline bool needsFilter(const uint8_t* filtered, uint32_t geomID, const QueryState& state) {
+  return state.callbacks && (state.contextFilter || (filtered && filtered[geomID]));
+}
+
+// Closest-hit test of triangles [first, first + count); shrinks ray.tfar on accepted hits.
+inline bool intersectLeafClosest(const TriangleSet& set, uint32_t first, uint32_t count, const WatertightRay& wr,
+                                 Ray& ray, Hit& hit, const QueryState& state) {
+  bool found = false;
+  for (uint32_t i = 0; i < count; ++i) {
+    const StoredTriangle& tri = set.triangles[first + i];
+    if ((set.geometryMasks[tri.geomID] & ray.mask) == 0) continue;
+    TriangleHit th;
+    if (!intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)) continue;
+    const Hit candidate = makeTriangleHit(tri, th, state.instID);
+    if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
+        !state.callbacks->acceptHit(set.owner, ray, candidate, th.t, false))
+      continue;
+    ray.tfar = th.t;
+    hit = candidate;
+    found = true;
+  }
+  return found;
+}
+
+// True when any triangle of the leaf blocks the ray (and the filters accept it).
+inline bool intersectLeafAny(const TriangleSet& set, uint32_t first, uint32_t count, const WatertightRay& wr,
+                             const Ray& ray, const QueryState& state) {
+  for (uint32_t i = 0; i < count; ++i) {
+    const StoredTriangle& tri = set.triangles[first + i];
+    if ((set.geometryMasks[tri.geomID] & ray.mask) == 0) continue;
+    TriangleHit th;
+    if (!intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)) continue;
+    if (needsFilter(set.occlusionFiltered, tri.geomID, state) &&
+        !state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(tri, th, state.instID), th.t, true))
+      continue;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace obvh
