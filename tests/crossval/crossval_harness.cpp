@@ -69,16 +69,22 @@ std::vector<RTCRayHit> trace(const RtcLibrary& lib, RTCScene scene, const std::v
 
 }  // namespace
 
-CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
+CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedScene& reference,
+                                const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays) {
   const LoadedLibraries& libs = libraries();
-  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
-  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, flags);
   const std::vector<RTCRayHit> a = trace(*libs.embree, reference.scene(), rays);
   const std::vector<RTCRayHit> b = trace(*libs.obvh, candidate.scene(), rays);
   CrossvalCounts counts;
   for (size_t i = 0; i < rays.size(); ++i)
     counts.add(tools::compareHits(scene, rays[i], tools::toHitRecord(a[i]), tools::toHitRecord(b[i])), rays[i]);
   return counts;
+}
+
+CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
+  const LoadedLibraries& libs = libraries();
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
+  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, flags);
+  return compareCommitted(scene, reference, candidate, rays);
 }
 
 void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOccluded, bool obvhOccluded,

@@ -68,18 +68,7 @@ TEST(CrossvalIntersect, BinaryLayoutMatchesEmbree) {
   scene.meshes.push_back(randomTriangleSoup(10000, 19));
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
   tools::CommittedScene candidate(*libs.obvh, bvh2, scene);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  CrossvalCounts counts;
-  for (const RTCRay& ray : mixedRays(scene, kRandomRays, kGridSide, 20)) {
-    RTCRayHit a{}, b{};
-    a.ray = b.ray = ray;
-    a.hit.geomID = b.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    libs.embree->rtcIntersect1(reference.scene(), &context, &a);
-    libs.obvh->rtcIntersect1(candidate.scene(), &context, &b);
-    counts.add(tools::compareHits(scene, ray, tools::toHitRecord(a), tools::toHitRecord(b)), ray);
-  }
-  expectNoMismatch("accel=bvh2", counts);
+  expectNoMismatch("accel=bvh2", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 20)));
   libs.obvh->rtcReleaseDevice(bvh2);
 }
 
@@ -129,18 +118,7 @@ TEST(CrossvalIntersect, UpdatedAndRecommittedGeometry) {
 
   std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 17);
   assignMasks(rays, 18);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  CrossvalCounts counts;
-  for (const RTCRay& ray : rays) {
-    RTCRayHit a{}, b{};
-    a.ray = b.ray = ray;
-    a.hit.geomID = b.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    libs.embree->rtcIntersect1(reference.scene(), &context, &a);
-    libs.obvh->rtcIntersect1(candidate.scene(), &context, &b);
-    counts.add(tools::compareHits(scene, ray, tools::toHitRecord(a), tools::toHitRecord(b)), ray);
-  }
-  expectNoMismatch("updated+recommitted", counts);
+  expectNoMismatch("updated+recommitted", compareCommitted(scene, reference, candidate, rays));
   EXPECT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
 }
 
