@@ -1,0 +1,253 @@
+// Hard numerical cases on obvh alone, through the public API: geometry far from the origin and at
+// extreme scales, degenerate triangles, special ray values, NaN and infinity. Failures print rays
+// in hex floats so they can be replayed.
+#include <embree3/rtcore.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "test_scenes.h"
+
+namespace obvh::test {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+class Scene {
+ public:
+  explicit Scene(const std::vector<MeshData>& meshes, const char* config = nullptr)
+      : device_(rtcNewDevice(config)), scene_(rtcNewScene(device_)), meshes_(meshes) {
+    for (const MeshData& mesh : meshes_) {
+      RTCGeometry g = rtcNewGeometry(device_, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,
+                                 mesh.vertexCount());
+      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+                                 mesh.indices.data(), 0, mesh.quads ? 16 : 12, mesh.primitiveCount());
+      rtcCommitGeometry(g);
+      rtcAttachGeometry(scene_, g);
+      rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(scene_);
+    EXPECT_EQ(rtcGetDeviceError(device_), RTC_ERROR_NONE);
+  }
+  ~Scene() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+
+  RTCRayHit intersect(const RTCRay& ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    rh.ray = ray;
+    rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    return rh;
+  }
+  bool occluded(const RTCRay& ray) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r = ray;
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar == -kInf;
+  }
+  RTCDevice device() const { return device_; }
+
+ private:
+  RTCDevice device_;
+  RTCScene scene_;
+  std::vector<MeshData> meshes_;  // shared buffers point into these
+};
+
+RTCRay makeRay(const float org[3], const float dir[3], float tnear = 0.f, float tfar = kInf) {
+  RTCRay r{};
+  r.org_x = org[0], r.org_y = org[1], r.org_z = org[2];
+  r.dir_x = dir[0], r.dir_y = dir[1], r.dir_z = dir[2];
+  r.tnear = tnear;
+  r.tfar = tfar;
+  r.mask = 0xFFFFFFFFu;
+  return r;
+}
+
+std::string hex(const RTCRay& r) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "org=(%a, %a, %a) dir=(%a, %a, %a) tnear=%a tfar=%a", r.org_x, r.org_y, r.org_z,
+                r.dir_x, r.dir_y, r.dir_z, r.tnear, r.tfar);
+  return buf;
+}
+
+// Rays from the centre of a closed mesh through every vertex and edge point: none may escape.
+size_t leaksFromCenter(const MeshData& mesh, const float center[3], int pointsPerEdge, std::string& firstLeak) {
+  Scene scene({mesh});
+  size_t leaks = 0;
+  for (size_t prim = 0; prim < mesh.primitiveCount(); ++prim)
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t a = mesh.indices[3 * prim + c], b = mesh.indices[3 * prim + (c + 1) % 3];
+      for (int k = 0; k < pointsPerEdge; ++k) {
+        const float w = float(k) / float(pointsPerEdge);
+        float dir[3];
+        for (int axis = 0; axis < 3; ++axis)
+          dir[axis] = (1 - w) * mesh.vertices[3 * a + axis] + w * mesh.vertices[3 * b + axis] - center[axis];
+        const RTCRay ray = makeRay(center, dir);
+        if (scene.intersect(ray).hit.geomID == RTC_INVALID_GEOMETRY_ID || !scene.occluded(ray))
+          if (leaks++ == 0) firstLeak = hex(ray);
+      }
+    }
+  return leaks;
+}
+
+TEST(HardCases, ClosedMeshesFarFromTheOriginDoNotLeak) {
+  for (float offset : {1e4f, 1e5f, 1e6f, 1e7f}) {
+    const float radius = offset * 1e-3f;  // keeps the triangles many ulps wide at that magnitude
+    const float center[3] = {offset, -offset, 0.5f * offset};
+    std::string first;
+    EXPECT_EQ(leaksFromCenter(icosphere(3, radius, center), center, 4, first), 0u) << "offset " << offset << ": " << first;
+  }
+}
+
+TEST(HardCases, ClosedMeshesAtExtremeScalesDoNotLeak) {
+  for (float scale : {1e-4f, 1e4f}) {
+    const float center[3] = {0.3f * scale, 0.1f * scale, -0.2f * scale};
+    std::string first;
+    EXPECT_EQ(leaksFromCenter(icosphere(3, scale, center), center, 4, first), 0u) << "scale " << scale << ": " << first;
+  }
+}
+
+TEST(HardCases, DegenerateTrianglesNeverHitAndWriteNoNaN) {
+  MeshData mesh;
+  mesh.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0,      // a good triangle (prim 0), z = 0
+                   0, 0, 1, 0, 0, 1, 1, 1, 1,      // repeated vertex (prim 1), z = 1
+                   0, 0, 2, 0.5f, 0.5f, 2, 1, 1, 2,  // collinear (prim 2), z = 2
+                   0.3f, 0.3f, 3, 0.3f, 0.3f, 3, 0.3f, 0.3f, 3};  // a point (prim 3), z = 3
+  mesh.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  Scene scene({mesh});
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> unit(-0.2f, 1.2f);
+  for (int i = 0; i < 20000; ++i) {
+    const float org[3] = {unit(rng), unit(rng), 5.f}, dir[3] = {unit(rng) * 0.1f, unit(rng) * 0.1f, -1.f};
+    const RTCRayHit rh = scene.intersect(makeRay(org, dir));
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    EXPECT_EQ(rh.hit.primID, 0u) << hex(rh.ray);
+    EXPECT_TRUE(std::isfinite(rh.ray.tfar) && std::isfinite(rh.hit.u) && std::isfinite(rh.hit.v) &&
+                std::isfinite(rh.hit.Ng_x) && std::isfinite(rh.hit.Ng_y) && std::isfinite(rh.hit.Ng_z))
+        << hex(rh.ray);
+  }
+  // Rays exactly through the degenerate primitives' points.
+  const float throughPoint[3] = {0.3f, 0.3f, 5.f}, down[3] = {0.f, 0.f, -1.f};
+  EXPECT_EQ(scene.intersect(makeRay(throughPoint, down)).hit.primID, 0u);
+}
+
+TEST(HardCases, TinyAndHugeTrianglesInOneScene) {
+  MeshData tiny = randomTriangleSoup(2000, 2);
+  const float offset[3] = {0.f, 0.f, 0.f};
+  transformMesh(tiny, 1e-5f, offset);  // triangles of about 1e-7 .. 1e-5
+  MeshData huge;
+  huge.vertices = {-1e6f, -1e6f, -1.f, 1e6f, -1e6f, -1.f, 0.f, 1e6f, -1.f};
+  huge.indices = {0, 1, 2};
+  Scene scene({tiny, huge});
+  // Rays aimed at the tiny triangles' centroids hit them (before the huge plane behind them).
+  size_t tinyHits = 0, planeHits = 0;
+  for (size_t prim = 0; prim < tiny.primitiveCount(); ++prim) {
+    float c[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int axis = 0; axis < 3; ++axis) c[axis] += tiny.vertices[3 * tiny.indices[3 * prim + k] + axis] / 3.f;
+    const float org[3] = {c[0], c[1], 1e-4f}, dir[3] = {0.f, 0.f, -1.f};
+    const RTCRayHit rh = scene.intersect(makeRay(org, dir));
+    ASSERT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << hex(rh.ray);
+    (rh.hit.geomID == 0 ? tinyHits : planeHits)++;
+  }
+  // A centroid may lie behind another tiny triangle; it may never fall through to the plane
+  // unless it really misses every tiny triangle, which a centroid ray cannot.
+  EXPECT_EQ(planeHits, 0u);
+  EXPECT_EQ(tinyHits, tiny.primitiveCount());
+}
+
+TEST(HardCases, SpecialDirectionComponents) {
+  const float lo[3] = {-1.f, -1.f, -1.f}, hi[3] = {1.f, 1.f, 1.f};
+  Scene scene({box(lo, hi, false)});
+  const float denormal = std::numeric_limits<float>::denorm_min();
+  const float components[] = {0.f, -0.f, denormal, -denormal, 1e-30f};
+  size_t rays = 0;
+  for (float a : components)
+    for (float b : components) {
+      // From inside the closed box every ray must hit, whatever its tiny components are.
+      const float org[3] = {0.25f, -0.5f, 0.1f};
+      for (int axis = 0; axis < 3; ++axis)
+        for (float sign : {1.f, -1.f}) {
+          float dir[3];
+          dir[axis] = sign;
+          dir[(axis + 1) % 3] = a;
+          dir[(axis + 2) % 3] = b;
+          const RTCRayHit rh = scene.intersect(makeRay(org, dir));
+          EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << hex(rh.ray);
+          EXPECT_TRUE(scene.occluded(makeRay(org, dir))) << hex(rh.ray);
+          ++rays;
+        }
+    }
+  EXPECT_EQ(rays, 150u);
+  // Axis-parallel rays running exactly inside a face's plane, from outside, along the face.
+  const float alongFace[3] = {-5.f, 1.f, 0.2f}, plusX[3] = {1.f, 0.f, 0.f};
+  EXPECT_NE(scene.intersect(makeRay(alongFace, plusX)).hit.geomID, RTC_INVALID_GEOMETRY_ID)
+      << "a ray in the plane of a face still crosses the box's other faces";
+}
+
+TEST(HardCases, SegmentBoundaries) {
+  MeshData tri;
+  tri.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  tri.indices = {0, 1, 2};
+  Scene scene({tri});
+  const float org[3] = {0.2f, 0.2f, 1.f}, down[3] = {0.f, 0.f, -1.f};
+  // Hits lie in (tnear, tfar]: exactly at tfar counts, exactly at tnear does not (as in Embree).
+  EXPECT_NE(scene.intersect(makeRay(org, down, 0.f, 1.f)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(scene.intersect(makeRay(org, down, 1.f, kInf)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(scene.intersect(makeRay(org, down, 1.f, 1.f)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(scene.intersect(makeRay(org, down, 2.f, 0.5f)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_FALSE(scene.occluded(makeRay(org, down, 1.f, 1.f)));
+  // Origin on the surface: with tnear = 0 the surface itself (t = 0) is not hit.
+  const float onSurface[3] = {0.2f, 0.2f, 0.f};
+  EXPECT_EQ(scene.intersect(makeRay(onSurface, down)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  const float up[3] = {0.f, 0.f, 1.f};
+  EXPECT_EQ(scene.intersect(makeRay(onSurface, up)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
+}
+
+TEST(HardCases, NanAndInfinityNeverCrashAndNeverHit) {
+  MeshData good = randomTriangleSoup(1000, 3);
+  MeshData bad = good;  // same triangles with poisoned vertices: every one is skipped at build
+  for (size_t i = 0; i < bad.vertices.size(); i += 7)
+    bad.vertices[i] = (i / 7) % 2 ? std::numeric_limits<float>::quiet_NaN() : kInf;
+  Scene scene({good, bad});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float org[3] = {0.5f, 0.5f, 2.f}, dir[3] = {0.f, 0.f, -1.f};
+  const float nanOrg[3] = {nan, 0.5f, 2.f}, nanDir[3] = {0.f, nan, -1.f}, infDir[3] = {kInf, 0.f, -1.f};
+  for (const RTCRay& ray : {makeRay(nanOrg, dir), makeRay(org, nanDir), makeRay(org, infDir),
+                            makeRay(org, dir, nan, kInf), makeRay(org, dir, 0.f, nan)}) {
+    EXPECT_EQ(scene.intersect(ray).hit.geomID, RTC_INVALID_GEOMETRY_ID) << hex(ray);
+    EXPECT_FALSE(scene.occluded(ray)) << hex(ray);
+  }
+  // Poisoned primitives are never reported; the valid ones still are.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  size_t hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const float o[3] = {unit(rng), unit(rng), 2.f};
+    const RTCRayHit rh = scene.intersect(makeRay(o, dir));
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    ++hits;
+    if (rh.hit.geomID == 1) {
+      const uint32_t* idx = &bad.indices[3 * rh.hit.primID];
+      for (int k = 0; k < 3; ++k)
+        for (int axis = 0; axis < 3; ++axis)
+          EXPECT_TRUE(std::isfinite(bad.vertices[3 * idx[k] + axis])) << "a primitive with a NaN/inf vertex was hit";
+    }
+  }
+  EXPECT_GT(hits, 1000u);
+  EXPECT_EQ(rtcGetDeviceError(scene.device()), RTC_ERROR_NONE);
+}
+
+}  // namespace
+}  // namespace obvh::test
