@@ -35,7 +35,7 @@ Buffer::~Buffer() {
   }
 }
 
-size_t formatByteSize(RTCFormat format) {
+size_t formatByteSize(int format) {
   const unsigned f = unsigned(format);
   const unsigned group = f >> 12;
   if (format == RTC_FORMAT_GRID) return 12;

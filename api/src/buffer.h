@@ -38,13 +38,13 @@ struct BufferView {
   size_t byteOffset = 0;
   size_t byteStride = 0;
   size_t itemCount = 0;
-  RTCFormat format = RTC_FORMAT_UNDEFINED;
+  int format = RTC_FORMAT_UNDEFINED;  // an RTCFormat value (see enum_bits.h)
 
   bool bound() const { return bool(buffer); }
   unsigned char* data() const { return buffer ? buffer->data() + byteOffset : nullptr; }
 };
 
 // Size in bytes of one item of format (0 for formats a buffer cannot hold).
-size_t formatByteSize(RTCFormat format);
+size_t formatByteSize(int format);
 
 }  // namespace obvh::api

@@ -2,13 +2,14 @@
 #include <embree3/rtcore.h>
 
 #include "api_error.h"
+#include "enum_bits.h"
 #include "device.h"
 
 using namespace obvh::api;
 
 namespace {
 
-ssize_t queryProperty(const Device& device, RTCDeviceProperty prop) {
+ssize_t queryProperty(const Device& device, int prop) {
   switch (prop) {
     case RTC_DEVICE_PROPERTY_VERSION: return RTC_VERSION;
     case RTC_DEVICE_PROPERTY_VERSION_MAJOR: return RTC_VERSION_MAJOR;
@@ -39,13 +40,13 @@ ssize_t queryProperty(const Device& device, RTCDeviceProperty prop) {
   }
   // Embree answers its internal debugging properties (2000000 and up) with pointers into its own
   // code; embree_verify queries them at start-up. obvh has no such internals and answers 0.
-  if (size_t(prop) >= 2000000 && size_t(prop) < 2000100) return 0;
+  if (prop >= 2000000 && prop < 2000100) return 0;
   fail(RTC_ERROR_INVALID_ARGUMENT, "unknown readable property");
 }
 
 // Embree reserves 1000000..1000003 for internal settings that may be set without a device;
 // Debian's tutorials set them at start-up. obvh has no such settings and accepts them as no-ops.
-bool isInternalProperty(RTCDeviceProperty prop) { return size_t(prop) >= 1000000 && size_t(prop) < 1000004; }
+bool isInternalProperty(int prop) { return prop >= 1000000 && prop < 1000004; }
 
 }  // namespace
 
@@ -68,14 +69,14 @@ RTC_API ssize_t rtcGetDeviceProperty(RTCDevice device, RTCDeviceProperty prop) {
   Device* d = Device::from(device);
   return guarded(d, ssize_t(0), [&] {
     requireHandle(d);
-    return queryProperty(*d, prop);
+    return queryProperty(*d, enumBits(prop));
   });
 }
 
 RTC_API void rtcSetDeviceProperty(RTCDevice device, const RTCDeviceProperty prop, ssize_t) {
   Device* d = Device::from(device);
   guarded(d, [&] {
-    if (isInternalProperty(prop)) return;
+    if (isInternalProperty(enumBits(prop))) return;
     requireHandle(d);
     fail(RTC_ERROR_INVALID_ARGUMENT, "unknown writable property");
   });

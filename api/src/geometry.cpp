@@ -36,7 +36,7 @@ void Geometry::setTransform(unsigned timeStep, const Affine3f& xfm) {
   markModified();
 }
 
-void Geometry::setTransform(unsigned timeStep, RTCFormat format, const void* xfm) {
+void Geometry::setTransform(unsigned timeStep, int format, const void* xfm) {
   if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
   const float* m = static_cast<const float*>(xfm);
   Affine3f a;
@@ -56,7 +56,7 @@ void Geometry::setTransform(unsigned timeStep, RTCFormat format, const void* xfm
   setTransform(timeStep, a);
 }
 
-void Geometry::getTransform(RTCFormat format, void* xfm) const {
+void Geometry::getTransform(int format, void* xfm) const {
   requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
   if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
   float* m = static_cast<float*>(xfm);
@@ -113,7 +113,7 @@ const BufferView& Geometry::attributeBuffer(unsigned slot) const {
   return attributes_[slot];
 }
 
-BufferView& Geometry::view(RTCBufferType type, unsigned slot) {
+BufferView& Geometry::view(int type, unsigned slot) {
   switch (type) {
     case RTC_BUFFER_TYPE_INDEX:
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
@@ -129,7 +129,7 @@ BufferView& Geometry::view(RTCBufferType type, unsigned slot) {
   }
 }
 
-void Geometry::setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, const Ref<Buffer>& buffer,
+void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>& buffer,
                          size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
   if (!isMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   switch (type) {
@@ -161,9 +161,9 @@ void Geometry::setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, co
   markModified();
 }
 
-void* Geometry::bufferData(RTCBufferType type, unsigned slot) { return view(type, slot).data(); }
+void* Geometry::bufferData(int type, unsigned slot) { return view(type, slot).data(); }
 
-void Geometry::updateBuffer(RTCBufferType type, unsigned slot) {
+void Geometry::updateBuffer(int type, unsigned slot) {
   view(type, slot);
   markModified();
 }
@@ -184,7 +184,7 @@ void Geometry::setMask(unsigned mask) {
   markModified();
 }
 
-void Geometry::setBuildQuality(RTCBuildQuality quality) {
+void Geometry::setBuildQuality(int quality) {
   if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM &&
       quality != RTC_BUILD_QUALITY_HIGH && quality != RTC_BUILD_QUALITY_REFIT)
     fail(RTC_ERROR_UNKNOWN, "invalid build quality");

@@ -35,26 +35,27 @@ class Geometry : public RefCounted {
 
   // checkRange: the buffer's size is known (rtcSetGeometryBuffer, rtcSetNewGeometryBuffer), so a
   // range past its end is rejected; shared pointers carry no size to check against.
-  void setBuffer(RTCBufferType type, unsigned slot, RTCFormat format, const Ref<Buffer>& buffer,
+  // Buffer types, formats and qualities arrive as raw bits (enum_bits.h): any value may be passed.
+  void setBuffer(int type, unsigned slot, int format, const Ref<Buffer>& buffer,
                  size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange = true);
   // nullptr when nothing is bound; throws for a type or slot the geometry does not have.
-  void* bufferData(RTCBufferType type, unsigned slot);
-  void updateBuffer(RTCBufferType type, unsigned slot);
+  void* bufferData(int type, unsigned slot);
+  void updateBuffer(int type, unsigned slot);
 
   void setTimeStepCount(unsigned count);
   void setVertexAttributeCount(unsigned count);
   void setMask(unsigned mask);
-  void setBuildQuality(RTCBuildQuality quality);
+  void setBuildQuality(int quality);
   void setEnabled(bool enabled);
   void commit();
 
   // Instances.
   void setInstancedScene(Scene* scene);
   Scene* instancedScene() const { return instancedScene_; }
-  void setTransform(unsigned timeStep, RTCFormat format, const void* xfm);
+  void setTransform(unsigned timeStep, int format, const void* xfm);
   void setTransform(unsigned timeStep, const Affine3f& xfm);
   const Affine3f& transform() const { return transform_; }
-  void getTransform(RTCFormat format, void* xfm) const;
+  void getTransform(int format, void* xfm) const;
 
   // User geometry.
   void setUserPrimitiveCount(unsigned count);
@@ -91,7 +92,7 @@ class Geometry : public RefCounted {
   RTCGeometry handle() { return reinterpret_cast<RTCGeometry>(this); }
 
  private:
-  BufferView& view(RTCBufferType type, unsigned slot);
+  BufferView& view(int type, unsigned slot);
   void markModified();
 
   Ref<Device> device_;
@@ -100,7 +101,7 @@ class Geometry : public RefCounted {
   std::vector<BufferView> vertices_;
   std::vector<BufferView> attributes_;
   unsigned mask_ = 0xFFFFFFFFu;
-  RTCBuildQuality quality_ = RTC_BUILD_QUALITY_MEDIUM;
+  int quality_ = RTC_BUILD_QUALITY_MEDIUM;
   bool enabled_ = true;
   bool committed_ = false;
   void* userData_ = nullptr;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "api_error.h"
+#include "enum_bits.h"
 #include "geometry.h"
 #include "scene.h"
 
@@ -14,7 +15,7 @@ namespace {
 
 Device* deviceOf(Geometry* g) { return g ? g->device() : nullptr; }
 
-bool isKnownGeometryType(RTCGeometryType type) {
+bool isKnownGeometryType(int type) {
   switch (type) {
     case RTC_GEOMETRY_TYPE_TRIANGLE: case RTC_GEOMETRY_TYPE_QUAD: case RTC_GEOMETRY_TYPE_GRID:
     case RTC_GEOMETRY_TYPE_SUBDIVISION:
@@ -47,17 +48,18 @@ void failForThisGeometry(RTCGeometry handle) {
 
 }  // namespace
 
-RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType type) {
+RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgument) {
   Device* d = Device::from(device);
   return guarded(d, RTCGeometry(nullptr), [&] {
     requireHandle(d);
+    const int type = enumBits(typeArgument);
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
     if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_USER &&
         type != RTC_GEOMETRY_TYPE_INSTANCE)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
                                             " is not supported by obvh yet (triangles, quads, user geometry and "
                                             "instances are)");
-    return (new Geometry(d, type))->handle();
+    return (new Geometry(d, static_cast<RTCGeometryType>(type)))->handle();  // validated above
   });
 }
 
@@ -86,7 +88,7 @@ RTC_API void rtcSetGeometryMask(RTCGeometry geometry, unsigned int mask) {
 }
 
 RTC_API void rtcSetGeometryBuildQuality(RTCGeometry geometry, RTCBuildQuality quality) {
-  withGeometry(geometry, [&](Geometry& g) { g.setBuildQuality(quality); });
+  withGeometry(geometry, [&](Geometry& g) { g.setBuildQuality(enumBits(quality)); });
 }
 
 RTC_API void rtcSetGeometryMaxRadiusScale(RTCGeometry geometry, float) { failForThisGeometry(geometry); }
@@ -96,7 +98,7 @@ RTC_API void rtcSetGeometryBuffer(RTCGeometry geometry, RTCBufferType type, unsi
   withGeometry(geometry, [&](Geometry& g) {
     Buffer* b = requireHandle(Buffer::from(buffer));
     if (b->device() != g.device()) fail(RTC_ERROR_INVALID_ARGUMENT, "inputs are from different devices");
-    g.setBuffer(type, slot, format, Ref<Buffer>(b), byteOffset, byteStride, itemCount);
+    g.setBuffer(enumBits(type), slot, enumBits(format), Ref<Buffer>(b), byteOffset, byteStride, itemCount);
   });
 }
 
@@ -107,7 +109,7 @@ RTC_API void rtcSetSharedGeometryBuffer(RTCGeometry geometry, RTCBufferType type
     // The application promises itemCount items; the shared buffer spans exactly that range.
     const size_t byteSize = byteOffset + byteStride * itemCount;
     Ref<Buffer> shared(new Buffer(g.device(), const_cast<void*>(ptr), byteSize), true);
-    g.setBuffer(type, slot, format, shared, byteOffset, byteStride, itemCount, false);
+    g.setBuffer(enumBits(type), slot, enumBits(format), shared, byteOffset, byteStride, itemCount, false);
   });
 }
 
@@ -117,18 +119,18 @@ RTC_API void* rtcSetNewGeometryBuffer(RTCGeometry geometry, RTCBufferType type, 
   return guarded(deviceOf(g), static_cast<void*>(nullptr), [&] {
     requireHandle(g);
     Ref<Buffer> owned(new Buffer(g->device(), byteStride * itemCount), true);
-    g->setBuffer(type, slot, format, owned, 0, byteStride, itemCount);
+    g->setBuffer(enumBits(type), slot, enumBits(format), owned, 0, byteStride, itemCount);
     return static_cast<void*>(owned->data());
   });
 }
 
 RTC_API void* rtcGetGeometryBufferData(RTCGeometry geometry, RTCBufferType type, unsigned int slot) {
   Geometry* g = Geometry::from(geometry);
-  return guarded(deviceOf(g), static_cast<void*>(nullptr), [&] { return requireHandle(g)->bufferData(type, slot); });
+  return guarded(deviceOf(g), static_cast<void*>(nullptr), [&] { return requireHandle(g)->bufferData(enumBits(type), slot); });
 }
 
 RTC_API void rtcUpdateGeometryBuffer(RTCGeometry geometry, RTCBufferType type, unsigned int slot) {
-  withGeometry(geometry, [&](Geometry& g) { g.updateBuffer(type, slot); });
+  withGeometry(geometry, [&](Geometry& g) { g.updateBuffer(enumBits(type), slot); });
 }
 
 RTC_API void rtcSetGeometryUserData(RTCGeometry geometry, void* ptr) {
@@ -173,7 +175,7 @@ RTC_API void rtcSetGeometryInstancedScene(RTCGeometry geometry, RTCScene scene) 
 }
 
 RTC_API void rtcSetGeometryTransform(RTCGeometry geometry, unsigned int timeStep, RTCFormat format, const void* xfm) {
-  withGeometry(geometry, [&](Geometry& g) { g.setTransform(timeStep, format, xfm); });
+  withGeometry(geometry, [&](Geometry& g) { g.setTransform(timeStep, enumBits(format), xfm); });
 }
 
 // Embree's decomposition: M = T * R * S, with S upper triangular (scale, skew) plus a shift,
@@ -205,7 +207,7 @@ RTC_API void rtcSetGeometryTransformQuaternion(RTCGeometry geometry, unsigned in
 }
 
 RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float, RTCFormat format, void* xfm) {
-  withGeometry(geometry, [&](Geometry& g) { g.getTransform(format, xfm); });
+  withGeometry(geometry, [&](Geometry& g) { g.getTransform(enumBits(format), xfm); });
 }
 
 RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float) { failForThisGeometry(geometry); }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "api_error.h"
+#include "enum_bits.h"
 #include "geometry.h"
 
 using namespace obvh::api;
@@ -28,7 +29,7 @@ const float* itemAt(const BufferView& view, uint32_t index, unsigned valueCount)
   return reinterpret_cast<const float*>(view.buffer->data() + offset);
 }
 
-void interpolateOne(const Geometry& g, unsigned primID, float u, float v, RTCBufferType type, unsigned slot, float* P,
+void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int type, unsigned slot, float* P,
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
   if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle and quad meshes");
   const BufferView* values = nullptr;
@@ -75,7 +76,7 @@ RTC_API void rtcInterpolate(const RTCInterpolateArguments* args) {
   guarded(g ? g->device() : nullptr, [&] {
     requireHandle(args);
     requireHandle(g);
-    interpolateOne(*g, args->primID, args->u, args->v, args->bufferType, args->bufferSlot, args->P, args->dPdu,
+    interpolateOne(*g, args->primID, args->u, args->v, enumBits(args->bufferType), args->bufferSlot, args->P, args->dPdu,
                    args->dPdv, args->ddPdudu, args->ddPdvdv, args->ddPdudv, args->valueCount);
   });
 }
@@ -94,7 +95,7 @@ RTC_API void rtcInterpolateN(const RTCInterpolateNArguments* args) {
       if (valid && valid[i] != -1) continue;
       float* slots[6];
       for (int s = 0; s < 6; ++s) slots[s] = out[s].data();
-      interpolateOne(*g, args->primIDs[i], args->u[i], args->v[i], args->bufferType, args->bufferSlot,
+      interpolateOne(*g, args->primIDs[i], args->u[i], args->v[i], enumBits(args->bufferType), args->bufferSlot,
                      args->P ? slots[0] : nullptr, args->dPdu ? slots[1] : nullptr, args->dPdv ? slots[2] : nullptr,
                      args->ddPdudu ? slots[3] : nullptr, args->ddPdvdv ? slots[4] : nullptr,
                      args->ddPdudv ? slots[5] : nullptr, count);

@@ -38,12 +38,12 @@ Geometry* Scene::geometry(unsigned geomID) {
   return geometries_[geomID].get();
 }
 
-void Scene::setFlags(RTCSceneFlags flags) {
+void Scene::setFlags(int flags) {
   flags_ = flags;
   modified_ = true;
 }
 
-void Scene::setBuildQuality(RTCBuildQuality quality) {
+void Scene::setBuildQuality(int quality) {
   // REFIT is a per-geometry quality; scenes accept only the three build levels.
   if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM && quality != RTC_BUILD_QUALITY_HIGH)
     fail(RTC_ERROR_UNKNOWN, "invalid build quality");

@@ -26,9 +26,10 @@ class Scene : public RefCounted {
   void detach(unsigned geomID);
   Geometry* geometry(unsigned geomID);
 
-  void setFlags(RTCSceneFlags flags);
-  RTCSceneFlags flags() const { return flags_; }
-  void setBuildQuality(RTCBuildQuality quality);
+  // Raw bits (enum_bits.h): any value may be passed; flags() is handed back as given.
+  void setFlags(int flags);
+  int flags() const { return flags_; }
+  void setBuildQuality(int quality);
   void setProgressMonitor(RTCProgressMonitorFunction fn, void* userPtr);
 
   void commit();
@@ -56,8 +57,8 @@ class Scene : public RefCounted {
   std::mutex mutex_;
   std::vector<Ref<Geometry>> geometries_;        // index is the geomID; empty slots are null
   std::vector<uint64_t> builtModificationCounters_;
-  RTCSceneFlags flags_ = RTC_SCENE_FLAG_NONE;
-  RTCBuildQuality quality_ = RTC_BUILD_QUALITY_MEDIUM;
+  int flags_ = RTC_SCENE_FLAG_NONE;
+  int quality_ = RTC_BUILD_QUALITY_MEDIUM;
   RTCProgressMonitorFunction progress_ = nullptr;
   void* progressUserPtr_ = nullptr;
   std::atomic<bool> modified_{true};

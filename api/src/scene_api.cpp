@@ -1,7 +1,10 @@
 // rtc* entry points for scenes (everything except the ray queries).
 #include <embree3/rtcore.h>
 
+#include <cstring>
+
 #include "api_error.h"
+#include "enum_bits.h"
 #include "scene.h"
 
 using namespace obvh::api;
@@ -72,16 +75,21 @@ RTC_API void rtcSetSceneProgressMonitorFunction(RTCScene scene, RTCProgressMonit
 }
 
 RTC_API void rtcSetSceneBuildQuality(RTCScene scene, RTCBuildQuality quality) {
-  withScene(scene, [&](Scene& s) { s.setBuildQuality(quality); });
+  withScene(scene, [&](Scene& s) { s.setBuildQuality(enumBits(quality)); });
 }
 
 RTC_API void rtcSetSceneFlags(RTCScene scene, RTCSceneFlags flags) {
-  withScene(scene, [&](Scene& s) { s.setFlags(flags); });
+  withScene(scene, [&](Scene& s) { s.setFlags(enumBits(flags)); });
 }
 
 RTC_API RTCSceneFlags rtcGetSceneFlags(RTCScene scene) {
   Scene* s = Scene::from(scene);
-  return guarded(deviceOf(s), RTC_SCENE_FLAG_NONE, [&] { return requireHandle(s)->flags(); });
+  return guarded(deviceOf(s), RTC_SCENE_FLAG_NONE, [&] {
+    RTCSceneFlags flags;
+    const int bits = requireHandle(s)->flags();
+    std::memcpy(&flags, &bits, sizeof flags);  // hands back exactly the bits that were set
+    return flags;
+  });
 }
 
 RTC_API void rtcGetSceneBounds(RTCScene scene, RTCBounds* bounds_o) {
