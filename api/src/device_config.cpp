@@ -55,9 +55,9 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       if (value == "watertight") {
         config.intersector = IntersectorMode::Watertight;
       } else if (value == "fast") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "intersector=fast is not implemented by obvh yet (available: watertight)");
+        config.intersector = IntersectorMode::Fast;
       } else {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown intersector '" + value + "' (available: watertight)");
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown intersector '" + value + "' (available: watertight, fast)");
       }
     } else if (name == "ray_mask") {
       if (value == "on") config.rayMasks = true;

@@ -7,12 +7,12 @@
 
 namespace obvh::api {
 
-enum class IntersectorMode { Watertight };
 
 struct DeviceConfig {
   int threads = 0;  // 0: TBB's default
   int verbose = 0;
   AccelLayout accel = AccelLayout::Bvh4;  // the fastest layout is the default
+  // RTC_SCENE_FLAG_ROBUST always selects the watertight test; this is the default for other scenes.
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
   int maxLeafSize = 4;

@@ -157,6 +157,7 @@ void Scene::rebuild() {
   }
   BuildOptions options;
   options.layout = device_->config().accel;
+  options.intersector = (flags_ & RTC_SCENE_FLAG_ROBUST) ? IntersectorMode::Watertight : device_->config().intersector;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
   device_->execute([&] { accel_.build(desc, options); });

@@ -122,7 +122,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   if (!triangleBvh_.empty()) bounds_.extend(triangleBvh_.nodes[0].bounds);
   if (!objectBvh_.empty()) bounds_.extend(objectBvh_.nodes[0].bounds);
   const TriangleSet set{triangles_.data(), geometryMasks_.data(), intersectFiltered_.data(), occlusionFiltered_.data(),
-                        owner_};
+                        owner_, options.intersector == IntersectorMode::Fast};
   triangleView_ = TriangleBvhView{};
   triangleView4_ = TriangleBvh4View{};
   triangleBvh4_ = Bvh4{};

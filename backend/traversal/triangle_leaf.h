@@ -5,6 +5,7 @@
 
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
+#include "intersect/moeller_triangle.h"
 #include "intersect/watertight_triangle.h"
 #include "traversal/query_callbacks.h"
 
@@ -17,7 +18,14 @@ struct TriangleSet {
   const uint8_t* intersectFiltered = nullptr; // geomID has an intersection filter
   const uint8_t* occlusionFiltered = nullptr; // geomID has an occlusion filter
   const void* owner = nullptr;                // passed back to QueryCallbacks
+  bool fast = false;                          // Moeller-Trumbore instead of the watertight test
 };
+
+inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, const Ray& ray,
+                              const StoredTriangle& tri, TriangleHit& th) {
+  return set.fast ? intersectMoeller(ray, tri.v0, tri.v1, tri.v2, th)
+                  : intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th);
+}
 
 inline Hit makeTriangleHit(const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
   Hit hit;
@@ -43,7 +51,7 @@ inline bool intersectLeafClosest(const TriangleSet& set, uint32_t first, uint32_
     const StoredTriangle& tri = set.triangles[first + i];
     if ((set.geometryMasks[tri.geomID] & ray.mask) == 0) continue;
     TriangleHit th;
-    if (!intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)) continue;
+    if (!intersectTriangle(set, wr, ray, tri, th)) continue;
     const Hit candidate = makeTriangleHit(tri, th, state.instID);
     if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
         !state.callbacks->acceptHit(set.owner, ray, candidate, th.t, false))
@@ -62,7 +70,7 @@ inline bool intersectLeafAny(const TriangleSet& set, uint32_t first, uint32_t co
     const StoredTriangle& tri = set.triangles[first + i];
     if ((set.geometryMasks[tri.geomID] & ray.mask) == 0) continue;
     TriangleHit th;
-    if (!intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)) continue;
+    if (!intersectTriangle(set, wr, ray, tri, th)) continue;
     if (needsFilter(set.occlusionFiltered, tri.geomID, state) &&
         !state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(tri, th, state.instID), th.t, true))
       continue;

@@ -82,7 +82,8 @@ TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
 
 TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
   for (const char* config : {"", "threads=1", "verbose=0,isa=avx2", "accel=bvh4.triangle4", "foo=bar",
-                             "accel=bvh2,intersector=watertight,build_bins=16,max_leaf_size=2"}) {
+                             "accel=bvh2,intersector=watertight,build_bins=16,max_leaf_size=2", "accel=bvh4",
+                             "intersector=fast", "ray_mask=off"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -91,7 +92,7 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
 }
 
 TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
-  for (const char* config : {"threads=-1", "accel=bvh8", "accel=nonsense", "intersector=fast", "intersector=foo",
+  for (const char* config : {"threads=-1", "accel=bvh8", "accel=nonsense", "intersector=foo",
                              "build_bins=1", "max_leaf_size=x", "ray_mask=maybe"}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;

@@ -72,6 +72,21 @@ TEST(CrossvalIntersect, BinaryLayoutMatchesEmbree) {
   libs.obvh->rtcReleaseDevice(bvh2);
 }
 
+// intersector=fast (Moeller-Trumbore) against Embree's default path, which uses the same test.
+TEST(CrossvalIntersect, FastIntersectorMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  RTCDevice fast = libs.obvh->rtcNewDevice("intersector=fast");
+  ASSERT_NE(fast, nullptr);
+  const float center[3] = {0.f, 0.f, 0.f};
+  SceneData scene = single("icosphere+soup+quads", icosphere(4, 1.f, center));
+  scene.meshes.push_back(randomTriangleSoup(10000, 21));
+  scene.meshes.push_back(quadGrid(30, 0.3f, 22));
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  tools::CommittedScene candidate(*libs.obvh, fast, scene);
+  expectNoMismatch("intersector=fast", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 23)));
+  libs.obvh->rtcReleaseDevice(fast);
+}
+
 TEST(CrossvalIntersect, NonPlanarQuadGrid) {
   const SceneData scene = single("quads", quadGrid(100, 0.4f, 9));
   expectNoMismatch("quad grid mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 10)));

@@ -137,6 +137,14 @@ PartJudgement judge(const ExactPart& part, const RTCRay& ray, double edgeToleran
   return j;
 }
 
+// A position error of edgeTolerance (float inputs, transforms) moves the hit along the ray by that
+// much over cos(angle): no float answer can be held to a tighter distance than this.
+double distanceSlack(const ExactPart& part, const RTCRay& ray, double edgeTolerance) {
+  const double dirLength =
+      std::sqrt(double(ray.dir_x) * ray.dir_x + double(ray.dir_y) * ray.dir_y + double(ray.dir_z) * ray.dir_z);
+  return edgeTolerance / (dirLength * std::max(part.cosine, 1e-6));
+}
+
 double edgeToleranceFor(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
                         const CompareTolerance& tol) {
   return tol.edgeUlps * coordinateMagnitude(scene, ray, geomID, primID) * std::numeric_limits<float>::epsilon() * 0.5;
@@ -205,13 +213,8 @@ Comparison compareHits(const SceneData& scene, const RTCRay& ray, const HitRecor
       const PartJudgement j = judge(part, ray, edgeTolerance, tol);
       HitRecord exact = candidate;
       exact.t = float(part.t), exact.u = float(part.u), exact.v = float(part.v);
-      // A position error of edgeTolerance (float inputs, transforms) moves the hit by that much
-      // over cos(angle) along the surface: that bounds what any float answer can achieve.
-      const double cosine = std::max(part.cosine, 1e-6);
-      const double dirLength = std::sqrt(double(ray.dir_x) * ray.dir_x + double(ray.dir_y) * ray.dir_y +
-                                         double(ray.dir_z) * ray.dir_z);
-      const double tSlack = edgeTolerance / (dirLength * cosine);
-      const double uvSlack = part.minHeight > 0.0 ? edgeTolerance / (part.minHeight * cosine) : 0.0;
+      const double tSlack = distanceSlack(part, ray, edgeTolerance);
+      const double uvSlack = part.minHeight > 0.0 ? edgeTolerance / (part.minHeight * std::max(part.cosine, 1e-6)) : 0.0;
       std::string ignored;
       if ((j.clearHit || j.borderline) && sameValues(exact, candidate, tol, ignored, tSlack, uvSlack)) confirmed = true;
     }
@@ -226,7 +229,8 @@ Comparison compareHits(const SceneData& scene, const RTCRay& ray, const HitRecor
     const double edgeTolerance = edgeToleranceFor(scene, ray, reference.geomID, reference.primID, tol);
     for (const ExactPart& part : intersectExact(scene, ray, reference.geomID, reference.primID)) {
       const PartJudgement j = judge(part, ray, edgeTolerance, tol);
-      if (j.clearHit && part.t < obvhT - tol.tRelative * std::max(std::fabs(part.t), 1e-30)) {
+      const double margin = std::max(tol.tRelative * std::fabs(part.t), distanceSlack(part, ray, edgeTolerance));
+      if (j.clearHit && part.t < obvhT - margin) {
         result.verdict = Verdict::Mismatch;
         result.reason += " (obvh missed a clear, nearer hit)";
         return result;
