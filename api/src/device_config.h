@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "build/build_options.h"
+#include "builders/build_options.h"
 
 namespace obvh::api {
 

@@ -68,20 +68,28 @@ bool queryOne(const Scene& scene, RTCPointQuery& query, RTCPointQueryContext& co
   return scene.accel().pointQuery({query.x, query.y, query.z}, dispatch);
 }
 
-template <int W, typename Packet>
-bool queryPacket(const int* valid, RTCScene handle, Packet* query, RTCPointQueryContext* context,
-                 RTCPointQueryFunction fn, void** userPtr) {
+// Validates the arguments every point query shares and runs body with the committed scene.
+template <typename Query, typename Body>
+bool pointQuery(RTCScene handle, Query* query, RTCPointQueryContext* context, Body&& body) {
   Scene* scene = Scene::from(handle);
   return guarded(scene ? scene->device() : nullptr, false, [&] {
     requireHandle(scene);
     requireHandle(query);
     requireHandle(context);
     scene->requireCommitted();
+    return body(*scene);
+  });
+}
+
+template <int W, typename Packet>
+bool queryPacket(const int* valid, RTCScene handle, Packet* query, RTCPointQueryContext* context,
+                 RTCPointQueryFunction fn, void** userPtr) {
+  return pointQuery(handle, query, context, [&](const Scene& scene) {
     bool changed = false;
     for (int i = 0; i < W; ++i) {
       if (valid && valid[i] != -1) continue;
       RTCPointQuery one{query->x[i], query->y[i], query->z[i], query->time[i], query->radius[i]};
-      changed |= queryOne(*scene, one, *context, fn, userPtr ? userPtr[i] : nullptr);
+      changed |= queryOne(scene, one, *context, fn, userPtr ? userPtr[i] : nullptr);
       query->radius[i] = one.radius;
     }
     return changed;
@@ -92,14 +100,8 @@ bool queryPacket(const int* valid, RTCScene handle, Packet* query, RTCPointQuery
 
 RTC_API bool rtcPointQuery(RTCScene handle, RTCPointQuery* query, RTCPointQueryContext* context,
                            RTCPointQueryFunction queryFunc, void* userPtr) {
-  Scene* scene = Scene::from(handle);
-  return guarded(scene ? scene->device() : nullptr, false, [&] {
-    requireHandle(scene);
-    requireHandle(query);
-    requireHandle(context);
-    scene->requireCommitted();
-    return queryOne(*scene, *query, *context, queryFunc, userPtr);
-  });
+  return pointQuery(handle, query, context,
+                    [&](const Scene& scene) { return queryOne(scene, *query, *context, queryFunc, userPtr); });
 }
 
 RTC_API bool rtcPointQuery4(const int* valid, RTCScene scene, RTCPointQuery4* query, RTCPointQueryContext* context,

@@ -120,15 +120,8 @@ bool QueryDispatch::intersectUser(const void* owner, uint32_t geomID, uint32_t p
   rayhit.hit = embreeHit(hit);
   int valid = -1;
   UserIntersectArguments args;
-  args.valid = &valid;
-  args.geometryUserPtr = geometry.userData();
-  args.primID = primID;
-  args.context = &context_;
+  fillUserArguments(args, &valid, geometry, geomID, primID);
   args.rayhit = reinterpret_cast<RTCRayHitN*>(&rayhit);
-  args.N = 1;
-  args.geomID = geomID;
-  args.dispatch = this;
-  args.geometry = &geometry;
   {
     InstanceIdScope scope(context_, state.instID);
     geometry.user().intersect(&args);
@@ -148,15 +141,8 @@ bool QueryDispatch::occludedUser(const void* owner, uint32_t geomID, uint32_t pr
   RTCRay r = embreeRay(ray, ray.tfar);
   int valid = -1;
   UserOccludedArguments args;
-  args.valid = &valid;
-  args.geometryUserPtr = geometry.userData();
-  args.primID = primID;
-  args.context = &context_;
+  fillUserArguments(args, &valid, geometry, geomID, primID);
   args.ray = reinterpret_cast<RTCRayN*>(&r);
-  args.N = 1;
-  args.geomID = geomID;
-  args.dispatch = this;
-  args.geometry = &geometry;
   {
     InstanceIdScope scope(context_, state.instID);
     geometry.user().occluded(&args);

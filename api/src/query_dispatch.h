@@ -29,6 +29,20 @@ class QueryDispatch final : public QueryCallbacks {
  private:
   RTCRay embreeRay(const Ray& ray, float tfar) const;
 
+  // The members UserIntersectArguments and UserOccludedArguments share (one ray, N = 1).
+  template <typename Arguments>
+  void fillUserArguments(Arguments& args, int* valid, const Geometry& geometry, uint32_t geomID,
+                         uint32_t primID) const {
+    args.valid = valid;
+    args.geometryUserPtr = geometry.userData();
+    args.primID = primID;
+    args.context = &context_;
+    args.N = 1;
+    args.geomID = geomID;
+    args.dispatch = this;
+    args.geometry = &geometry;
+  }
+
   const Scene& scene_;
   RTCIntersectContext& context_;
   const RTCRay* original_ = nullptr;  // the application's ray being traced (id, flags, time)

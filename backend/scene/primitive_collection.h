@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "build/prim_ref.h"
+#include "builders/prim_ref.h"
 #include "intersect/triangle.h"
 #include "scene/mesh_desc.h"
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "build/binned_sah_builder.h"
+#include "builders/binned_sah_builder.h"
 #include "scene/primitive_collection.h"
 #include "traversal/bvh2_traverse.h"
 

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "build/build_options.h"
+#include "builders/build_options.h"
 #include "bvh/binary_bvh.h"
 #include "intersect/ray.h"
 #include "intersect/triangle.h"

@@ -4,7 +4,7 @@
 #include <random>
 #include <vector>
 
-#include "build/binned_sah_builder.h"
+#include "builders/binned_sah_builder.h"
 
 namespace obvh {
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "build/binned_sah_builder.h"
+#include "builders/binned_sah_builder.h"
 #include "bvh/bvh4.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"

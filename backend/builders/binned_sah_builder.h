@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "build/build_options.h"
-#include "build/prim_ref.h"
+#include "builders/build_options.h"
+#include "builders/prim_ref.h"
 #include "bvh/binary_bvh.h"
 
 namespace obvh {

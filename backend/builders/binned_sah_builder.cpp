@@ -1,4 +1,4 @@
-#include "build/binned_sah_builder.h"
+#include "builders/binned_sah_builder.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_invoke.h>
