@@ -17,7 +17,7 @@ struct CompareTolerance {
   float uvAbsolute = 1e-4f;
   float normalRelative = 1e-5f;
   // Distance to an edge, in ulps of the scene's coordinate magnitude, below which a hit is ambiguous.
-  double edgeUlps = 64.0;
+  double edgeUlps = 4.0;
 };
 
 enum class Verdict { Equal, Ambiguous, Mismatch };
