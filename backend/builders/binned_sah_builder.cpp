@@ -173,6 +173,21 @@ class BinnedSahBuilder {
     return best;
   }
 
+  // Partitions [begin, end) by goesLeft and measures both sides on the way, which saves the
+  // children a separate pass over their primitives. Returns the first index of the right side.
+  template <typename GoesLeft>
+  size_t partitionMeasuring(size_t begin, size_t end, GoesLeft&& goesLeft, RangeInfo& left, RangeInfo& right) {
+    size_t i = begin, j = end;
+    for (;;) {
+      while (i < j && goesLeft(refs_[i])) left.add(refs_[i++]);
+      while (i < j && !goesLeft(refs_[j - 1])) right.add(refs_[--j]);
+      if (i >= j) return i;
+      std::swap(refs_[i], refs_[j - 1]);
+      left.add(refs_[i++]);
+      right.add(refs_[--j]);
+    }
+  }
+
   void makeLeaf(uint32_t nodeIndex, size_t begin, size_t end, const Box3f& bounds) {
     Bvh2Node& node = out_.nodes[nodeIndex];
     node.bounds = bounds;
@@ -185,6 +200,8 @@ class BinnedSahBuilder {
     if (n == 1) return makeLeaf(nodeIndex, begin, end, info.bounds);
 
     size_t middle = begin;
+    RangeInfo leftInfo, rightInfo;
+    bool childInfoKnown = false;  // set when the partition already measured both sides
     // Small nodes cannot use many bins; sweeping empty bins would dominate the build time.
     const int binCount = int(std::min<size_t>(size_t(options_.binCount), std::max<size_t>(4, 2 * n)));
     const BinMapping mapping(info.centroidBounds, binCount);
@@ -210,16 +227,22 @@ class BinnedSahBuilder {
       if (n <= size_t(options_.maxLeafSize) && leafCost <= splitCost)
         return makeLeaf(nodeIndex, begin, end, info.bounds);
       if (split.axis >= 0) {
-        auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& ref) {
-          return mapping.bin(ref, split.axis) < split.bin;
-        });
-        middle = size_t(it - refs_.begin());
+        auto goesLeft = [&](const PrimRef& ref) { return mapping.bin(ref, split.axis) < split.bin; };
+        if (n < kParallelBinningThreshold) {
+          middle = partitionMeasuring(begin, end, goesLeft, leftInfo, rightInfo);
+          childInfoKnown = true;
+        } else {  // large ranges: measure the children with the parallel reduction instead
+          middle = size_t(std::partition(refs_.begin() + begin, refs_.begin() + end, goesLeft) - refs_.begin());
+        }
       }
     } else if (n <= size_t(options_.maxLeafSize)) {
       return makeLeaf(nodeIndex, begin, end, info.bounds);
     }
     // Identical centroids or a failed partition: halve the range so recursion always terminates.
-    if (middle == begin || middle == end) middle = begin + n / 2;
+    if (middle == begin || middle == end) {
+      middle = begin + n / 2;
+      childInfoKnown = false;
+    }
 
     const uint32_t left = nodeCount_.fetch_add(2);
     Bvh2Node& node = out_.nodes[nodeIndex];
@@ -227,8 +250,12 @@ class BinnedSahBuilder {
     node.firstChildOrPrim = left;
     node.primCount = 0;
 
-    auto buildLeft = [&] { buildNode(left, begin, middle, rangeInfo(begin, middle), depth + 1); };
-    auto buildRight = [&] { buildNode(left + 1, middle, end, rangeInfo(middle, end), depth + 1); };
+    auto buildLeft = [&] {
+      buildNode(left, begin, middle, childInfoKnown ? leftInfo : rangeInfo(begin, middle), depth + 1);
+    };
+    auto buildRight = [&] {
+      buildNode(left + 1, middle, end, childInfoKnown ? rightInfo : rangeInfo(middle, end), depth + 1);
+    };
     if (n > kParallelRecursionThreshold) {
       tbb::parallel_invoke(buildLeft, buildRight);
     } else {
