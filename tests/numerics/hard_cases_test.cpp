@@ -11,68 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "obvh_scene.h"
 #include "test_scenes.h"
 
 namespace obvh::test {
 namespace {
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-class Scene {
- public:
-  explicit Scene(const std::vector<MeshData>& meshes, const char* config = nullptr)
-      : device_(rtcNewDevice(config)), scene_(rtcNewScene(device_)), meshes_(meshes) {
-    for (const MeshData& mesh : meshes_) {
-      RTCGeometry g = rtcNewGeometry(device_, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
-      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,
-                                 mesh.vertexCount());
-      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
-                                 mesh.indices.data(), 0, mesh.quads ? 16 : 12, mesh.primitiveCount());
-      rtcCommitGeometry(g);
-      rtcAttachGeometry(scene_, g);
-      rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(scene_);
-    EXPECT_EQ(rtcGetDeviceError(device_), RTC_ERROR_NONE);
-  }
-  ~Scene() {
-    rtcReleaseScene(scene_);
-    rtcReleaseDevice(device_);
-  }
-
-  RTCRayHit intersect(const RTCRay& ray) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray = ray;
-    rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &rh);
-    return rh;
-  }
-  bool occluded(const RTCRay& ray) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay r = ray;
-    rtcOccluded1(scene_, &context, &r);
-    return r.tfar == -kInf;
-  }
-  RTCDevice device() const { return device_; }
-
- private:
-  RTCDevice device_;
-  RTCScene scene_;
-  std::vector<MeshData> meshes_;  // shared buffers point into these
-};
-
-RTCRay makeRay(const float org[3], const float dir[3], float tnear = 0.f, float tfar = kInf) {
-  RTCRay r{};
-  r.org_x = org[0], r.org_y = org[1], r.org_z = org[2];
-  r.dir_x = dir[0], r.dir_y = dir[1], r.dir_z = dir[2];
-  r.tnear = tnear;
-  r.tfar = tfar;
-  r.mask = 0xFFFFFFFFu;
-  return r;
-}
 
 std::string hex(const RTCRay& r) {
   char buf[256];
@@ -83,7 +26,7 @@ std::string hex(const RTCRay& r) {
 
 // Rays from the centre of a closed mesh through every vertex and edge point: none may escape.
 size_t leaksFromCenter(const MeshData& mesh, const float center[3], int pointsPerEdge, std::string& firstLeak) {
-  Scene scene({mesh});
+  ObvhScene scene({mesh});
   size_t leaks = 0;
   for (size_t prim = 0; prim < mesh.primitiveCount(); ++prim)
     for (int c = 0; c < 3; ++c) {
@@ -125,7 +68,7 @@ TEST(HardCases, DegenerateTrianglesNeverHitAndWriteNoNaN) {
                    0, 0, 2, 0.5f, 0.5f, 2, 1, 1, 2,  // collinear (prim 2), z = 2
                    0.3f, 0.3f, 3, 0.3f, 0.3f, 3, 0.3f, 0.3f, 3};  // a point (prim 3), z = 3
   mesh.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
-  Scene scene({mesh});
+  ObvhScene scene({mesh});
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> unit(-0.2f, 1.2f);
   for (int i = 0; i < 20000; ++i) {
@@ -149,7 +92,7 @@ TEST(HardCases, TinyAndHugeTrianglesInOneScene) {
   MeshData huge;
   huge.vertices = {-1e6f, -1e6f, -1.f, 1e6f, -1e6f, -1.f, 0.f, 1e6f, -1.f};
   huge.indices = {0, 1, 2};
-  Scene scene({tiny, huge});
+  ObvhScene scene({tiny, huge});
   // Rays aimed at the tiny triangles' centroids hit them (before the huge plane behind them).
   size_t tinyHits = 0, planeHits = 0;
   for (size_t prim = 0; prim < tiny.primitiveCount(); ++prim) {
@@ -169,7 +112,7 @@ TEST(HardCases, TinyAndHugeTrianglesInOneScene) {
 
 TEST(HardCases, SpecialDirectionComponents) {
   const float lo[3] = {-1.f, -1.f, -1.f}, hi[3] = {1.f, 1.f, 1.f};
-  Scene scene({box(lo, hi, false)});
+  ObvhScene scene({box(lo, hi, false)});
   const float denormal = std::numeric_limits<float>::denorm_min();
   const float components[] = {0.f, -0.f, denormal, -denormal, 1e-30f};
   size_t rays = 0;
@@ -200,7 +143,7 @@ TEST(HardCases, SegmentBoundaries) {
   MeshData tri;
   tri.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   tri.indices = {0, 1, 2};
-  Scene scene({tri});
+  ObvhScene scene({tri});
   const float org[3] = {0.2f, 0.2f, 1.f}, down[3] = {0.f, 0.f, -1.f};
   // Hits lie in (tnear, tfar]: exactly at tfar counts, exactly at tnear does not (as in Embree).
   EXPECT_NE(scene.intersect(makeRay(org, down, 0.f, 1.f)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
@@ -220,7 +163,7 @@ TEST(HardCases, NanAndInfinityNeverCrashAndNeverHit) {
   MeshData bad = good;  // same triangles with poisoned vertices: every one is skipped at build
   for (size_t i = 0; i < bad.vertices.size(); i += 7)
     bad.vertices[i] = (i / 7) % 2 ? std::numeric_limits<float>::quiet_NaN() : kInf;
-  Scene scene({good, bad});
+  ObvhScene scene({good, bad});
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float org[3] = {0.5f, 0.5f, 2.f}, dir[3] = {0.f, 0.f, -1.f};
   const float nanOrg[3] = {nan, 0.5f, 2.f}, nanDir[3] = {0.f, nan, -1.f}, infDir[3] = {kInf, 0.f, -1.f};

@@ -10,47 +10,16 @@
 #include <random>
 
 #include "offset_ray.h"
+#include "obvh_scene.h"
 #include "test_scenes.h"
 
 namespace obvh::test {
 namespace {
 
-struct Traced {
-  RTCDevice device = rtcNewDevice(nullptr);
-  RTCScene scene = rtcNewScene(device);
-  explicit Traced(const MeshData& mesh) {
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,
-                               mesh.vertexCount());
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0, 12,
-                               mesh.primitiveCount());
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(scene);
-  }
-  ~Traced() {
-    rtcReleaseScene(scene);
-    rtcReleaseDevice(device);
-  }
-  RTCRayHit trace(const float org[3], const float dir[3]) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
-    rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &context, &rh);
-    return rh;
-  }
-};
-
 // Traces primary rays, then from every hit a ray into the hemisphere on the incoming side (a
 // reflection-like bounce) and one grazing along the surface; counts re-hits of the same triangle.
 size_t selfHits(const MeshData& mesh, const float center[3], float extent, uint32_t seed, size_t& bounces) {
-  Traced t(mesh);
+  ObvhScene t({mesh});
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(-1.f, 1.f);
   size_t self = 0;
@@ -61,7 +30,7 @@ size_t selfHits(const MeshData& mesh, const float center[3], float extent, uint3
       org[k] = center[k] + 2.f * extent * unit(rng);
       dir[k] = center[k] + 0.5f * extent * unit(rng) - org[k];
     }
-    const RTCRayHit first = t.trace(org, dir);
+    const RTCRayHit first = t.intersect(makeRay(org, dir));
     if (first.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
     float p[3] = {org[0] + first.ray.tfar * dir[0], org[1] + first.ray.tfar * dir[1], org[2] + first.ray.tfar * dir[2]};
     float n[3] = {first.hit.Ng_x, first.hit.Ng_y, first.hit.Ng_z};
@@ -76,7 +45,7 @@ size_t selfHits(const MeshData& mesh, const float center[3], float extent, uint3
       float along = out[0] * n[0] + out[1] * n[1] + out[2] * n[2];
       const float lift = variant == 0 ? 1.f : 1e-3f;  // 1: a bounce; 1e-3: nearly grazing
       for (int k = 0; k < 3; ++k) out[k] = out[k] - along * n[k] + lift * n[k];
-      const RTCRayHit second = t.trace(start, out);
+      const RTCRayHit second = t.intersect(makeRay(start, out));
       ++bounces;
       if (second.hit.geomID != RTC_INVALID_GEOMETRY_ID && second.hit.primID == first.hit.primID) {
         if (self++ == 0)
@@ -108,7 +77,7 @@ TEST(SelfIntersection, WithoutTheOffsetRaysDoRehitTheirTriangle) {
   // come back to their own triangle (or this test setup could not detect the bug).
   const float center[3] = {1e3f, 0.f, 0.f};
   const MeshData sphere = icosphere(4, 1.f, center);
-  Traced t(sphere);
+  ObvhScene t({sphere});
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> unit(-1.f, 1.f);
   size_t self = 0;
@@ -118,12 +87,12 @@ TEST(SelfIntersection, WithoutTheOffsetRaysDoRehitTheirTriangle) {
       org[k] = center[k] + 2.f * unit(rng);
       dir[k] = center[k] + 0.5f * unit(rng) - org[k];
     }
-    const RTCRayHit first = t.trace(org, dir);
+    const RTCRayHit first = t.intersect(makeRay(org, dir));
     if (first.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
     const float p[3] = {org[0] + first.ray.tfar * dir[0], org[1] + first.ray.tfar * dir[1],
                         org[2] + first.ray.tfar * dir[2]};
     const float out[3] = {-dir[0], -dir[1], -dir[2]};
-    const RTCRayHit second = t.trace(p, out);
+    const RTCRayHit second = t.intersect(makeRay(p, out));
     self += second.hit.geomID != RTC_INVALID_GEOMETRY_ID && second.hit.primID == first.hit.primID;
   }
   EXPECT_GT(self, 0u);

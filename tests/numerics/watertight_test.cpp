@@ -8,41 +8,19 @@
 #include <random>
 #include <string>
 
+#include "obvh_scene.h"
 #include "test_scenes.h"
 
 namespace obvh::test {
 namespace {
 
-struct ObvhScene {
-  RTCDevice device = rtcNewDevice(nullptr);
-  RTCScene scene = rtcNewScene(device);
-
-  explicit ObvhScene(const MeshData& mesh) {
-    RTCGeometry g = rtcNewGeometry(device, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0,
-                               3 * sizeof(float), mesh.vertexCount());
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
-                               mesh.indices.data(), 0, (mesh.quads ? 4 : 3) * sizeof(uint32_t), mesh.primitiveCount());
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(scene);
-  }
-  ~ObvhScene() {
-    rtcReleaseScene(scene);
-    rtcReleaseDevice(device);
-  }
-};
-
 // Rays from an interior point towards every vertex and edge point of the mesh (plus jittered
 // origins); counts the ones that escape.
 size_t countLeaks(const MeshData& mesh, const float inside[3], size_t raysPerTarget, uint32_t seed,
                   std::string& firstLeak) {
-  ObvhScene s(mesh);
+  ObvhScene s({mesh});
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   const int corners = mesh.quads ? 4 : 3;
   size_t leaks = 0;
   for (size_t prim = 0; prim < mesh.primitiveCount(); ++prim)
@@ -50,22 +28,13 @@ size_t countLeaks(const MeshData& mesh, const float inside[3], size_t raysPerTar
       const uint32_t a = mesh.indices[prim * corners + c], b = mesh.indices[prim * corners + (c + 1) % corners];
       for (size_t r = 0; r < raysPerTarget; ++r) {
         const float w = r == 0 ? 0.f : float(r) / float(raysPerTarget);  // r == 0: the vertex itself
-        RTCRayHit rh{};
-        rh.ray.org_x = inside[0] + (r ? jitter(rng) : 0.f);
-        rh.ray.org_y = inside[1] + (r ? jitter(rng) : 0.f);
-        rh.ray.org_z = inside[2] + (r ? jitter(rng) : 0.f);
-        rh.ray.dir_x = (1 - w) * mesh.vertices[3 * a] + w * mesh.vertices[3 * b] - rh.ray.org_x;
-        rh.ray.dir_y = (1 - w) * mesh.vertices[3 * a + 1] + w * mesh.vertices[3 * b + 1] - rh.ray.org_y;
-        rh.ray.dir_z = (1 - w) * mesh.vertices[3 * a + 2] + w * mesh.vertices[3 * b + 2] - rh.ray.org_z;
-        rh.ray.tfar = std::numeric_limits<float>::infinity();
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(s.scene, &context, &rh);
-        RTCRay shadow = rh.ray;
-        shadow.tfar = std::numeric_limits<float>::infinity();
-        rtcOccluded1(s.scene, &context, &shadow);
-        const bool occluded = shadow.tfar == -std::numeric_limits<float>::infinity();
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !occluded) {
+        float org[3], dir[3];
+        for (int axis = 0; axis < 3; ++axis) {
+          org[axis] = inside[axis] + (r ? jitter(rng) : 0.f);
+          dir[axis] = (1 - w) * mesh.vertices[3 * a + axis] + w * mesh.vertices[3 * b + axis] - org[axis];
+        }
+        const RTCRayHit rh = s.intersect(makeRay(org, dir));
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !s.occluded(makeRay(org, dir))) {
           if (leaks++ == 0) {
             char buf[256];
             std::snprintf(buf, sizeof buf, "org=(%a,%a,%a) dir=(%a,%a,%a)", rh.ray.org_x, rh.ray.org_y, rh.ray.org_z,

@@ -1,0 +1,56 @@
+#include "obvh_scene.h"
+
+#include <gtest/gtest.h>
+
+namespace obvh::test {
+
+ObvhScene::ObvhScene(const std::vector<MeshData>& meshes, const char* config)
+    : device_(rtcNewDevice(config)), scene_(rtcNewScene(device_)), meshes_(meshes) {
+  for (const MeshData& mesh : meshes_) {
+    RTCGeometry g = rtcNewGeometry(device_, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,
+                               mesh.vertexCount());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+                               mesh.indices.data(), 0, mesh.quads ? 16 : 12, mesh.primitiveCount());
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(scene_);
+  EXPECT_EQ(rtcGetDeviceError(device_), RTC_ERROR_NONE);
+}
+
+ObvhScene::~ObvhScene() {
+  rtcReleaseScene(scene_);
+  rtcReleaseDevice(device_);
+}
+
+RTCRayHit ObvhScene::intersect(const RTCRay& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray = ray;
+  rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  return rh;
+}
+
+bool ObvhScene::occluded(const RTCRay& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r = ray;
+  rtcOccluded1(scene_, &context, &r);
+  return r.tfar == -kInf;
+}
+
+RTCRay makeRay(const float org[3], const float dir[3], float tnear, float tfar) {
+  RTCRay r{};
+  r.org_x = org[0], r.org_y = org[1], r.org_z = org[2];
+  r.dir_x = dir[0], r.dir_y = dir[1], r.dir_z = dir[2];
+  r.tnear = tnear;
+  r.tfar = tfar;
+  r.mask = 0xFFFFFFFFu;
+  return r;
+}
+
+}  // namespace obvh::test
