@@ -1,10 +1,7 @@
 // obvh_bench: commits one scene to Debian's Embree and to obvh in the same process, traces the same
 // rays through both, prints build time, Mrays/s (medians) and how many answers differ, and writes
 // both libraries' images.
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,14 +11,17 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "accuracy_report.h"
 #include "hit_compare.h"
 #include "image_io.h"
 #include "mesh_loader.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
 #include "scene_data.h"
+#include "trace_timing.h"
 
 using namespace obvh::tools;
 
@@ -43,6 +43,7 @@ struct Options {
   std::fprintf(stderr,
                "usage: obvh_bench [--scene FILE.obj] [--width W] [--height H] [--runs N] [--random-rays N] "
                "[--out DIR]\n"
+               "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
                "  default scene: %s (Debian package glmark2-data)\n",
                kDefaultScenePath);
@@ -75,19 +76,6 @@ Options parseOptions(int argc, char** argv) {
   return o;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-template <typename F>
-double millisecondsOf(F&& f) {
-  const auto start = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 struct LibraryRun {
   const RtcLibrary* lib = nullptr;
   const char* config = nullptr;  // rtcNewDevice config
@@ -99,52 +87,6 @@ struct LibraryRun {
   std::vector<RTCRayHit> primary, random;
   std::vector<RTCRay> shadow;
 };
-
-std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
-  std::vector<RTCRayHit> out(rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) {
-    out[i].ray = rays[i];
-    out[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    out[i].hit.primID = RTC_INVALID_GEOMETRY_ID;
-    out[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  }
-  return out;
-}
-
-// Traces rays with rtcIntersect1 on all cores; returns Mrays/s (median over runs) and the answers.
-double traceIntersect(LibraryRun& run, const std::vector<RTCRay>& rays, int runs, std::vector<RTCRayHit>& result) {
-  std::vector<double> rates;
-  for (int r = 0; r < runs; ++r) {
-    std::vector<RTCRayHit> work = asRayHits(rays);
-    const double ms = millisecondsOf([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        for (size_t i = b.begin(); i < b.end(); ++i) run.lib->rtcIntersect1(run.scene->scene(), &context, &work[i]);
-      });
-    });
-    rates.push_back(double(rays.size()) / (ms * 1e3));
-    if (r == 0) result = std::move(work);
-  }
-  return median(rates);
-}
-
-double traceOccluded(LibraryRun& run, const std::vector<RTCRay>& rays, int runs, std::vector<RTCRay>& result) {
-  std::vector<double> rates;
-  for (int r = 0; r < runs; ++r) {
-    std::vector<RTCRay> work = rays;
-    const double ms = millisecondsOf([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        for (size_t i = b.begin(); i < b.end(); ++i) run.lib->rtcOccluded1(run.scene->scene(), &context, &work[i]);
-      });
-    });
-    rates.push_back(double(rays.size()) / (ms * 1e3));
-    if (r == 0) result = std::move(work);
-  }
-  return median(rates);
-}
 
 struct MismatchCount {
   size_t rays = 0, differing = 0, ambiguous = 0, mismatched = 0;
@@ -214,6 +156,7 @@ void printCount(const char* name, const MismatchCount& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::strcmp(argv[1], "accuracy") == 0) return runAccuracyReport(argc - 1, argv + 1);
   const Options options = parseOptions(argc, argv);
   try {
     const SceneData scene = loadObj(options.scene);
@@ -248,8 +191,8 @@ int main(int argc, char** argv) {
     const std::vector<RTCRay> primaryRays = perspectiveRays(box, options.width, options.height);
     const std::vector<RTCRay> random = randomRays(box, options.randomRays, 12345u);
     for (LibraryRun& run : runs) {
-      run.primaryMrays = traceIntersect(run, primaryRays, options.runs, run.primary);
-      run.randomMrays = traceIntersect(run, random, options.runs, run.random);
+      run.primaryMrays = traceIntersectMrays(*run.lib, run.scene->scene(), primaryRays, options.runs, &run.primary);
+      run.randomMrays = traceIntersectMrays(*run.lib, run.scene->scene(), random, options.runs, &run.random);
     }
     // Shadow rays start from Embree's primary hits so both libraries answer the very same rays.
     std::vector<float> hitT(primaryRays.size());
@@ -259,7 +202,7 @@ int main(int argc, char** argv) {
     const float extent = std::max({box.upper[0] - box.lower[0], box.upper[1] - box.lower[1], box.upper[2] - box.lower[2]});
     const float light[3] = {box.upper[0] + extent, box.upper[1] + 2.f * extent, box.upper[2] + extent};
     const std::vector<RTCRay> shadow = shadowRays(primaryRays, hitT, light);
-    for (LibraryRun& run : runs) run.shadowMrays = traceOccluded(run, shadow, options.runs, run.shadow);
+    for (LibraryRun& run : runs) run.shadowMrays = traceOccludedMrays(*run.lib, run.scene->scene(), shadow, options.runs, &run.shadow);
 
     std::printf("obvh_bench: %s, %zu primitives, %dx%d pixels, median of %d runs, %d hardware threads\n",
                 scene.name.c_str(), scene.primitiveCount(), options.width, options.height, options.runs,

@@ -258,6 +258,16 @@ OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const C
   return ambiguous ? OcclusionTruth::Ambiguous : OcclusionTruth::Free;
 }
 
+bool hitIsPlausible(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
+                    const CompareTolerance& tol) {
+  const double edgeTolerance = edgeToleranceFor(scene, ray, geomID, primID, tol);
+  for (const ExactPart& part : intersectExact(scene, ray, geomID, primID)) {
+    const PartJudgement j = judge(part, ray, edgeTolerance, tol);
+    if (j.clearHit || j.borderline) return true;
+  }
+  return false;
+}
+
 std::string describeRay(const RTCRay& r) {
   char buf[320];
   std::snprintf(buf, sizeof buf, "org=(%a, %a, %a) dir=(%a, %a, %a) tnear=%a tfar=%a mask=0x%x", r.org_x, r.org_y,

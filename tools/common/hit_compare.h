@@ -47,6 +47,12 @@ std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray,
 enum class OcclusionTruth { Occluded, Free, Ambiguous };
 OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const CompareTolerance& tolerance = {});
 
+// Whether a library may report a hit on (geomID, primID) for this ray: false only when double
+// precision proves the ray's line passes outside the primitive, or meets it outside (tnear, tfar],
+// by more than rounding the float inputs can explain.
+bool hitIsPlausible(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
+                    const CompareTolerance& tolerance = {});
+
 std::string describeRay(const RTCRay& ray);  // hex floats, so a failure can be replayed exactly
 
 }  // namespace obvh::tools

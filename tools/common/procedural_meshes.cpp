@@ -1,4 +1,4 @@
-#include "test_scenes.h"
+#include "procedural_meshes.h"
 
 #include <cmath>
 #include <array>
@@ -6,7 +6,7 @@
 #include <random>
 #include <utility>
 
-namespace obvh::test {
+namespace obvh::tools {
 
 MeshData randomTriangleSoup(size_t count, uint32_t seed) {
   std::mt19937 rng(seed);
@@ -113,8 +113,50 @@ MeshData triangleFan(int count) {
   return mesh;
 }
 
+MeshData cubeGrid(int n, const float lo[3], const float hi[3]) {
+  MeshData mesh;
+  // Each face is a grid in two axes at one end of the third; vertices on shared borders are
+  // computed by the same expression on both faces, so neighbouring faces meet exactly.
+  auto at = [&](int axis, int step) { return lo[axis] + (hi[axis] - lo[axis]) * float(step) / float(n); };
+  for (int normalAxis = 0; normalAxis < 3; ++normalAxis)
+    for (int side = 0; side < 2; ++side) {
+      const int a = (normalAxis + 1) % 3, b = (normalAxis + 2) % 3;
+      const uint32_t base = uint32_t(mesh.vertexCount());
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          float p[3];
+          p[normalAxis] = side ? hi[normalAxis] : lo[normalAxis];
+          p[a] = at(a, i);
+          p[b] = at(b, j);
+          mesh.vertices.insert(mesh.vertices.end(), p, p + 3);
+        }
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const uint32_t v00 = base + uint32_t(j * (n + 1) + i), v10 = v00 + 1, v01 = v00 + uint32_t(n + 1), v11 = v01 + 1;
+          if (side) mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
+          else mesh.indices.insert(mesh.indices.end(), {v00, v11, v10, v00, v01, v11});
+        }
+    }
+  return mesh;
+}
+
+MeshData closedFan(int count, float radius, float height, const float center[3]) {
+  MeshData mesh;
+  mesh.vertices = {center[0], center[1], center[2] + height, center[0], center[1], center[2] - height};
+  for (int i = 0; i < count; ++i) {
+    const float angle = 2.f * 3.14159265358979f * float(i) / float(count);
+    mesh.vertices.insert(mesh.vertices.end(),
+                         {center[0] + radius * std::cos(angle), center[1] + radius * std::sin(angle), center[2]});
+  }
+  for (int i = 0; i < count; ++i) {
+    const uint32_t a = uint32_t(2 + i), b = uint32_t(2 + (i + 1) % count);
+    mesh.indices.insert(mesh.indices.end(), {0u, a, b, 1u, b, a});
+  }
+  return mesh;
+}
+
 void transformMesh(MeshData& mesh, float scale, const float offset[3]) {
   for (size_t i = 0; i < mesh.vertices.size(); ++i) mesh.vertices[i] = mesh.vertices[i] * scale + offset[i % 3];
 }
 
-}  // namespace obvh::test
+}  // namespace obvh::tools

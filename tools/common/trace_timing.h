@@ -1,0 +1,31 @@
+// Timed tracing through a loaded library: rays split over all cores with TBB, medians over runs.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <chrono>
+#include <vector>
+
+#include "rtc_library.h"
+
+namespace obvh::tools {
+
+double median(std::vector<double> values);
+
+template <typename F>
+double millisecondsOf(F&& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// rtcIntersect1 over every ray, `runs` times; returns the median Mrays/s. When answers is given it
+// receives the first run's hit records.
+double traceIntersectMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                           std::vector<RTCRayHit>* answers = nullptr);
+
+// rtcOccluded1 over every ray; answers get the rays as the first run left them (tfar = -inf: occluded).
+double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                          std::vector<RTCRay>* answers = nullptr);
+
+}  // namespace obvh::tools
