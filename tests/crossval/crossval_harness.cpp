@@ -1,5 +1,7 @@
 #include "crossval_harness.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -80,6 +82,20 @@ CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedSc
   return counts;
 }
 
+void expectNoMismatch(const char* what, const CrossvalCounts& counts) {
+  std::printf("[crossval] %-34s %s\n", what, counts.summary().c_str());
+  ::testing::Test::RecordProperty(std::string(what) + "_rays", std::to_string(counts.rays));
+  ::testing::Test::RecordProperty(std::string(what) + "_ambiguous", std::to_string(counts.ambiguous));
+  EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
+}
+
+SceneData single(const char* name, tools::MeshData mesh) {
+  SceneData scene;
+  scene.name = name;
+  scene.meshes.push_back(std::move(mesh));
+  return scene;
+}
+
 CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
   const LoadedLibraries& libs = libraries();
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
@@ -101,10 +117,10 @@ void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOcclud
   counts.add(c, ray);
 }
 
-CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays) {
+CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
   const LoadedLibraries& libs = libraries();
-  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene);
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
+  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, flags);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   CrossvalCounts counts;

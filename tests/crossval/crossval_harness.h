@@ -40,11 +40,18 @@ CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCR
 CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedScene& reference,
                                 const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays);
 // The same for rtcOccluded1; a differing answer is judged by a brute-force double-precision test.
-CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays);
+CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays,
+                                 RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);
 
 // Judges occlusion answers of both libraries for one ray.
 void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOccluded, bool obvhOccluded,
                     CrossvalCounts& counts);
+
+// Prints the counts, records them as test properties and expects no mismatch.
+void expectNoMismatch(const char* what, const CrossvalCounts& counts);
+
+// A scene of one mesh.
+SceneData single(const char* name, tools::MeshData mesh);
 
 // Rays through the vertices and edge midpoints of mesh (shared edges of a closed mesh), seeded.
 std::vector<RTCRay> raysThroughEdgesAndVertices(const tools::MeshData& mesh, size_t count, uint32_t seed);

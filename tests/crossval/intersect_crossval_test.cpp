@@ -10,20 +10,6 @@ namespace {
 constexpr size_t kRandomRays = 100000;
 constexpr int kGridSide = 320;  // 102400 coherent rays
 
-void expectNoMismatch(const char* what, const CrossvalCounts& counts) {
-  std::printf("[crossval] %-34s %s\n", what, counts.summary().c_str());
-  ::testing::Test::RecordProperty(std::string(what) + "_rays", std::to_string(counts.rays));
-  ::testing::Test::RecordProperty(std::string(what) + "_ambiguous", std::to_string(counts.ambiguous));
-  EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
-}
-
-SceneData single(const char* name, MeshData mesh) {
-  SceneData scene;
-  scene.name = name;
-  scene.meshes.push_back(std::move(mesh));
-  return scene;
-}
-
 TEST(CrossvalIntersect, RandomTriangleSoup) {
   const SceneData scene = single("soup", randomTriangleSoup(20000, 1));
   expectNoMismatch("soup intersect", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 2)));

@@ -25,8 +25,9 @@ std::string hex(const RTCRay& r) {
 }
 
 // Rays from the centre of a closed mesh through every vertex and edge point: none may escape.
-size_t leaksFromCenter(const MeshData& mesh, const float center[3], int pointsPerEdge, std::string& firstLeak) {
-  ObvhScene scene({mesh});
+size_t leaksFromCenter(const ObvhMode& mode, const MeshData& mesh, const float center[3], int pointsPerEdge,
+                       std::string& firstLeak) {
+  ObvhScene scene({mesh}, mode.config, mode.flags);
   size_t leaks = 0;
   for (size_t prim = 0; prim < mesh.primitiveCount(); ++prim)
     for (int c = 0; c < 3; ++c) {
@@ -44,31 +45,40 @@ size_t leaksFromCenter(const MeshData& mesh, const float center[3], int pointsPe
   return leaks;
 }
 
-TEST(HardCases, ClosedMeshesFarFromTheOriginDoNotLeak) {
+// Every case runs in every obvh mode; the leak tests only in the modes that promise watertightness.
+class HardCases : public ::testing::TestWithParam<ObvhMode> {
+ protected:
+  ObvhScene sceneOf(const std::vector<MeshData>& meshes) const {
+    return ObvhScene(meshes, GetParam().config, GetParam().flags);
+  }
+};
+class HardCasesWatertight : public HardCases {};
+
+TEST_P(HardCasesWatertight, ClosedMeshesFarFromTheOriginDoNotLeak) {
   for (float offset : {1e4f, 1e5f, 1e6f, 1e7f}) {
     const float radius = offset * 1e-3f;  // keeps the triangles many ulps wide at that magnitude
     const float center[3] = {offset, -offset, 0.5f * offset};
     std::string first;
-    EXPECT_EQ(leaksFromCenter(icosphere(3, radius, center), center, 4, first), 0u) << "offset " << offset << ": " << first;
+    EXPECT_EQ(leaksFromCenter(GetParam(), icosphere(3, radius, center), center, 4, first), 0u) << "offset " << offset << ": " << first;
   }
 }
 
-TEST(HardCases, ClosedMeshesAtExtremeScalesDoNotLeak) {
+TEST_P(HardCasesWatertight, ClosedMeshesAtExtremeScalesDoNotLeak) {
   for (float scale : {1e-4f, 1e4f}) {
     const float center[3] = {0.3f * scale, 0.1f * scale, -0.2f * scale};
     std::string first;
-    EXPECT_EQ(leaksFromCenter(icosphere(3, scale, center), center, 4, first), 0u) << "scale " << scale << ": " << first;
+    EXPECT_EQ(leaksFromCenter(GetParam(), icosphere(3, scale, center), center, 4, first), 0u) << "scale " << scale << ": " << first;
   }
 }
 
-TEST(HardCases, DegenerateTrianglesNeverHitAndWriteNoNaN) {
+TEST_P(HardCases, DegenerateTrianglesNeverHitAndWriteNoNaN) {
   MeshData mesh;
   mesh.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0,      // a good triangle (prim 0), z = 0
                    0, 0, 1, 0, 0, 1, 1, 1, 1,      // repeated vertex (prim 1), z = 1
                    0, 0, 2, 0.5f, 0.5f, 2, 1, 1, 2,  // collinear (prim 2), z = 2
                    0.3f, 0.3f, 3, 0.3f, 0.3f, 3, 0.3f, 0.3f, 3};  // a point (prim 3), z = 3
   mesh.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
-  ObvhScene scene({mesh});
+  const ObvhScene scene = sceneOf({mesh});
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> unit(-0.2f, 1.2f);
   for (int i = 0; i < 20000; ++i) {
@@ -85,14 +95,14 @@ TEST(HardCases, DegenerateTrianglesNeverHitAndWriteNoNaN) {
   EXPECT_EQ(scene.intersect(makeRay(throughPoint, down)).hit.primID, 0u);
 }
 
-TEST(HardCases, TinyAndHugeTrianglesInOneScene) {
+TEST_P(HardCases, TinyAndHugeTrianglesInOneScene) {
   MeshData tiny = randomTriangleSoup(2000, 2);
   const float offset[3] = {0.f, 0.f, 0.f};
   transformMesh(tiny, 1e-5f, offset);  // triangles of about 1e-7 .. 1e-5
   MeshData huge;
   huge.vertices = {-1e6f, -1e6f, -1.f, 1e6f, -1e6f, -1.f, 0.f, 1e6f, -1.f};
   huge.indices = {0, 1, 2};
-  ObvhScene scene({tiny, huge});
+  const ObvhScene scene = sceneOf({tiny, huge});
   // Rays aimed at the tiny triangles' centroids hit them (before the huge plane behind them).
   size_t tinyHits = 0, planeHits = 0;
   for (size_t prim = 0; prim < tiny.primitiveCount(); ++prim) {
@@ -110,9 +120,9 @@ TEST(HardCases, TinyAndHugeTrianglesInOneScene) {
   EXPECT_EQ(tinyHits, tiny.primitiveCount());
 }
 
-TEST(HardCases, SpecialDirectionComponents) {
+TEST_P(HardCases, SpecialDirectionComponents) {
   const float lo[3] = {-1.f, -1.f, -1.f}, hi[3] = {1.f, 1.f, 1.f};
-  ObvhScene scene({box(lo, hi, false)});
+  const ObvhScene scene = sceneOf({box(lo, hi, false)});
   const float denormal = std::numeric_limits<float>::denorm_min();
   const float components[] = {0.f, -0.f, denormal, -denormal, 1e-30f};
   size_t rays = 0;
@@ -139,11 +149,11 @@ TEST(HardCases, SpecialDirectionComponents) {
       << "a ray in the plane of a face still crosses the box's other faces";
 }
 
-TEST(HardCases, SegmentBoundaries) {
+TEST_P(HardCases, SegmentBoundaries) {
   MeshData tri;
   tri.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   tri.indices = {0, 1, 2};
-  ObvhScene scene({tri});
+  const ObvhScene scene = sceneOf({tri});
   const float org[3] = {0.2f, 0.2f, 1.f}, down[3] = {0.f, 0.f, -1.f};
   // Hits lie in (tnear, tfar]: exactly at tfar counts, exactly at tnear does not (as in Embree).
   EXPECT_NE(scene.intersect(makeRay(org, down, 0.f, 1.f)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
@@ -158,12 +168,12 @@ TEST(HardCases, SegmentBoundaries) {
   EXPECT_EQ(scene.intersect(makeRay(onSurface, up)).hit.geomID, RTC_INVALID_GEOMETRY_ID);
 }
 
-TEST(HardCases, NanAndInfinityNeverCrashAndNeverHit) {
+TEST_P(HardCases, NanAndInfinityNeverCrashAndNeverHit) {
   MeshData good = randomTriangleSoup(1000, 3);
   MeshData bad = good;  // same triangles with poisoned vertices: every one is skipped at build
   for (size_t i = 0; i < bad.vertices.size(); i += 7)
     bad.vertices[i] = (i / 7) % 2 ? std::numeric_limits<float>::quiet_NaN() : kInf;
-  ObvhScene scene({good, bad});
+  const ObvhScene scene = sceneOf({good, bad});
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float org[3] = {0.5f, 0.5f, 2.f}, dir[3] = {0.f, 0.f, -1.f};
   const float nanOrg[3] = {nan, 0.5f, 2.f}, nanDir[3] = {0.f, nan, -1.f}, infDir[3] = {kInf, 0.f, -1.f};
@@ -191,6 +201,9 @@ TEST(HardCases, NanAndInfinityNeverCrashAndNeverHit) {
   EXPECT_GT(hits, 1000u);
   EXPECT_EQ(rtcGetDeviceError(scene.device()), RTC_ERROR_NONE);
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryMode, HardCases, ::testing::ValuesIn(kEveryMode), modeName);
+INSTANTIATE_TEST_SUITE_P(WatertightModes, HardCasesWatertight, ::testing::ValuesIn(kWatertightModes), modeName);
 
 }  // namespace
 }  // namespace obvh::test

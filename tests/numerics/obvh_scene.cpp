@@ -4,8 +4,18 @@
 
 namespace obvh::test {
 
-ObvhScene::ObvhScene(const std::vector<MeshData>& meshes, const char* config)
+const ObvhMode kEveryMode[4] = {{"watertight", nullptr, RTC_SCENE_FLAG_NONE},
+                                {"robust_flag", nullptr, RTC_SCENE_FLAG_ROBUST},
+                                {"fast", "intersector=fast", RTC_SCENE_FLAG_NONE},
+                                {"bvh2", "accel=bvh2", RTC_SCENE_FLAG_NONE}};
+const ObvhMode kWatertightModes[3] = {kEveryMode[0], kEveryMode[1], kEveryMode[3]};
+
+std::string modeName(const ::testing::TestParamInfo<ObvhMode>& info) { return info.param.name; }
+void PrintTo(const ObvhMode& mode, std::ostream* os) { *os << mode.name; }
+
+ObvhScene::ObvhScene(const std::vector<MeshData>& meshes, const char* config, RTCSceneFlags flags)
     : device_(rtcNewDevice(config)), scene_(rtcNewScene(device_)), meshes_(meshes) {
+  rtcSetSceneFlags(scene_, flags);
   for (const MeshData& mesh : meshes_) {
     RTCGeometry g = rtcNewGeometry(device_, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,

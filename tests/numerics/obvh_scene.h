@@ -4,7 +4,10 @@
 
 #include <embree3/rtcore.h>
 
+#include <gtest/gtest.h>
+
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "test_scenes.h"
@@ -15,7 +18,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 class ObvhScene {
  public:
-  explicit ObvhScene(const std::vector<MeshData>& meshes, const char* config = nullptr);
+  explicit ObvhScene(const std::vector<MeshData>& meshes, const char* config = nullptr,
+                     RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);
   ~ObvhScene();
   ObvhScene(const ObvhScene&) = delete;
   ObvhScene& operator=(const ObvhScene&) = delete;
@@ -30,6 +34,19 @@ class ObvhScene {
   RTCScene scene_;
   std::vector<MeshData> meshes_;  // shared buffers point into these
 };
+
+// A way of running obvh that the hard cases are repeated under.
+struct ObvhMode {
+  const char* name;
+  const char* config;
+  RTCSceneFlags flags;
+};
+// Every mode: watertight (default), RTC_SCENE_FLAG_ROBUST, the fast intersector, the binary layout.
+extern const ObvhMode kEveryMode[4];
+// The modes that promise watertightness (the fast intersector does not; the accuracy study measures it).
+extern const ObvhMode kWatertightModes[3];
+std::string modeName(const ::testing::TestParamInfo<ObvhMode>& info);
+void PrintTo(const ObvhMode& mode, std::ostream* os);
 
 RTCRay makeRay(const float org[3], const float dir[3], float tnear = 0.f, float tfar = kInf);
 

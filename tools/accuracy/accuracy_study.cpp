@@ -102,17 +102,31 @@ struct Tally {
   }
 };
 
+// The primitives a ray may hit (exactly, or within rounding of an edge), for replaying a miss.
+std::string primitivesMet(const SceneData& scene, const RTCRay& ray) {
+  std::string out;
+  for (unsigned geomID = 0; geomID < scene.meshes.size(); ++geomID)
+    for (unsigned primID = 0; primID < scene.meshes[geomID].primitiveCount(); ++primID)
+      if (hitIsPlausible(scene, ray, geomID, primID)) out += (out.empty() ? "" : "; ") + describePrimitive(scene, geomID, primID);
+  return out.empty() ? "no primitive" : out;
+}
+
 void judgeRay(const HardCase& c, size_t i, const RTCRayHit& closest, bool occluded, int reportedPrimitives, Tally& tally) {
   const RTCRay& ray = c.rays[i];
   const bool hit = closest.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   const bool mustHit = c.kind == CaseKind::ClosedConvex || c.truth[i] == OcclusionTruth::Occluded;
   const bool mustMiss = c.kind == CaseKind::Grazing && c.truth[i] == OcclusionTruth::Free;
   if (mustHit && (!hit || !occluded)) {
-    if (tally.missed++ == 0) tally.firstMiss = describeRay(ray) + (hit ? " (occluded said free)" : " (no hit)");
+    if (tally.missed++ == 0)
+      tally.firstMiss = describeRay(ray) + (hit ? " (occluded said free)" : " (no hit)") + "; it meets " +
+                        primitivesMet(c.scene, ray);
   }
   bool falseHit = mustMiss && (hit || occluded);
   if (hit && !hitIsPlausible(c.scene, ray, closest.hit.geomID, closest.hit.primID)) falseHit = true;
-  if (falseHit && tally.falseHits++ == 0) tally.firstFalseHit = describeRay(ray);
+  if (falseHit && tally.falseHits++ == 0)
+    tally.firstFalseHit = describeRay(ray) + (hit ? "; reported " + describePrimitive(c.scene, closest.hit.geomID,
+                                                                                    closest.hit.primID)
+                                                  : std::string("; occluded said occluded"));
   if (c.kind == CaseKind::ClosedConvex && reportedPrimitives > 1) ++tally.doubleReports;
   if (hit) {
     for (const ExactPart& part : intersectExact(c.scene, ray, closest.hit.geomID, closest.hit.primID)) {

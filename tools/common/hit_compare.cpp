@@ -275,4 +275,18 @@ std::string describeRay(const RTCRay& r) {
   return buf;
 }
 
+std::string describePrimitive(const SceneData& scene, unsigned geomID, unsigned primID) {
+  const MeshData& mesh = scene.meshes.at(geomID);
+  const int corners = mesh.quads ? 4 : 3;
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "geom %u prim %u:", geomID, primID);
+  std::string out = buf;
+  for (int c = 0; c < corners; ++c) {
+    const float* v = &mesh.vertices[3 * size_t(mesh.indices[size_t(primID) * corners + c])];
+    std::snprintf(buf, sizeof buf, " (%a, %a, %a)", v[0], v[1], v[2]);
+    out += buf;
+  }
+  return out;
+}
+
 }  // namespace obvh::tools

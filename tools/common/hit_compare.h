@@ -53,6 +53,8 @@ OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const C
 bool hitIsPlausible(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
                     const CompareTolerance& tolerance = {});
 
-std::string describeRay(const RTCRay& ray);  // hex floats, so a failure can be replayed exactly
+std::string describeRay(const RTCRay& ray);
+// The primitive's vertices in hex floats.
+std::string describePrimitive(const SceneData& scene, unsigned geomID, unsigned primID);  // hex floats, so a failure can be replayed exactly
 
 }  // namespace obvh::tools
