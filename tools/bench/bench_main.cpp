@@ -41,7 +41,7 @@ struct Options {
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
-               "usage: obvh_bench [--scene FILE.obj] [--width W] [--height H] [--runs N] [--random-rays N] "
+               "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
                "[--out DIR]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::strcmp(argv[1], "accuracy") == 0) return runAccuracyReport(argc - 1, argv + 1);
   const Options options = parseOptions(argc, argv);
   try {
-    const SceneData scene = loadObj(options.scene);
+    const SceneData scene = loadMesh(options.scene);
     std::string error;
     auto embree = RtcLibrary::open(referenceEmbreePath(), "embree", error);
     if (!embree) throw std::runtime_error(error + " (install Debian's libembree-dev)");

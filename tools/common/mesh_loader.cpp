@@ -2,8 +2,13 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
+#include <cctype>
+
 #include <fstream>
 #include <stdexcept>
+
+#include "ply_reader.h"
 
 namespace obvh::tools {
 
@@ -32,6 +37,19 @@ SceneData loadObj(const std::string& path) {
   if (mesh.indices.empty()) throw std::runtime_error("OBJ '" + path + "' has no faces");
   scene.meshes.push_back(std::move(mesh));
   return scene;
+}
+
+SceneData loadMesh(const std::string& path) {
+  std::string extension = path.substr(path.find_last_of('.') + 1);
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (extension == "obj") return loadObj(path);
+  if (extension == "ply") {
+    SceneData scene;
+    scene.name = path.substr(path.find_last_of('/') + 1);
+    scene.meshes.push_back(readPly(path));
+    return scene;
+  }
+  throw std::runtime_error("cannot load '" + path + "': obvh reads .obj and .ply meshes");
 }
 
 }  // namespace obvh::tools
