@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "crossval_harness.h"
+#include "stack_generator.h"
 #include "test_scenes.h"
 
 namespace obvh::test {
@@ -121,6 +122,17 @@ TEST(CrossvalIntersect, UpdatedAndRecommittedGeometry) {
   assignMasks(rays, 18);
   expectNoMismatch("updated+recommitted", compareCommitted(scene, reference, candidate, rays));
   EXPECT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
+}
+
+// Semiconductor stacks: long thin slanted boxes, coplanar faces of neighbouring solids, vias.
+TEST(CrossvalIntersect, SmallStackPresets) {
+  for (const char* name : {"small-1.5k", "vias-5.6k", "stepped-6.6k", "mixed-6.9k"}) {
+    const tools::StackPreset* preset = tools::findStackPreset(name);
+    ASSERT_NE(preset, nullptr) << name;
+    const SceneData scene = tools::generateStack(preset->params, name).asScene();
+    expectNoMismatch(name, crossvalIntersect1(scene, mixedRays(scene, kRandomRays / 2, kGridSide / 2, 13)));
+    expectNoMismatch(name, crossvalOccluded1(scene, mixedRays(scene, kRandomRays / 4, kGridSide / 4, 14)));
+  }
 }
 
 }  // namespace

@@ -222,7 +222,9 @@ int main(int argc, char** argv) {
       printCount("primary", primaryCount);
       printCount("random", randomCount);
       std::printf("  %-18s %9zu rays: %zu occlusion answers differ\n", "shadow", shadowCount.rays, shadowCount.differing);
-      clean &= primaryCount.mismatched == 0 && randomCount.mismatched == 0;
+      // The fast intersector is not watertight by design (see the accuracy report): only obvh's
+      // default mode must agree with Embree wherever the answer is not ambiguous.
+      if (runs[k].config == nullptr) clean &= primaryCount.mismatched == 0 && randomCount.mismatched == 0;
     }
 
     std::filesystem::create_directories(options.outDir);
