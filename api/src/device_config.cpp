@@ -46,11 +46,27 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
         config.accel = AccelLayout::Bvh2;
       } else if (value == "bvh4") {
         config.accel = AccelLayout::Bvh4;
-      } else if (value == "bvh8" || value == "obb" || value == "hybrid") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=" + value + " is not implemented by obvh yet (available: bvh2, bvh4)");
+      } else if (value == "obb") {
+        config.accel = AccelLayout::Obb;
+      } else if (value == "hybrid") {
+        config.accel = AccelLayout::Hybrid;
+      } else if (value == "bvh8") {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=bvh8 is not implemented by obvh yet (available: bvh2, bvh4, obb, hybrid)");
       } else if (value.find('.') == std::string::npos && value != "default") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2, bvh4)");
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2, bvh4, obb, hybrid)");
       }
+    } else if (name == "obb_split") {
+      if (value == "sah") config.obbSplit = ObbSplit::Sah;
+      else if (value == "median") config.obbSplit = ObbSplit::Median;
+      else if (value == "midpoint") config.obbSplit = ObbSplit::Midpoint;
+      else if (value == "aabb") config.obbSplit = ObbSplit::AabbSah;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown obb_split '" + value + "' (available: sah, median, midpoint, aabb)");
+    } else if (name == "obb_bins") {
+      config.obbBins = parseInt(name, value, 2, 1024);
+    } else if (name == "obb_clusters") {
+      config.obbClusters = parseInt(name, value, 0, 1 << 20);
+    } else if (name == "obb_cost") {
+      config.obbTestCost = float(parseInt(name, value, 1, 100)) / 10.f;
     } else if (name == "intersector") {
       if (value == "watertight") {
         config.intersector = IntersectorMode::Watertight;

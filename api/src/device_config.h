@@ -16,6 +16,10 @@ struct DeviceConfig {
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
   int maxLeafSize = 4;
+  ObbSplit obbSplit = ObbSplit::Sah;  // accel=obb|hybrid only
+  int obbBins = 32;
+  int obbClusters = 0;
+  float obbTestCost = 2.f;
   // ray_mask=off: ignore ray and geometry masks, for programs written against builds without masks.
   bool rayMasks = true;
 };

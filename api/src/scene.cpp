@@ -160,6 +160,10 @@ void Scene::rebuild() {
   options.intersector = (flags_ & RTC_SCENE_FLAG_ROBUST) ? IntersectorMode::Watertight : device_->config().intersector;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
+  options.obbSplit = device_->config().obbSplit;
+  options.obbBins = device_->config().obbBins;
+  options.obbClusters = device_->config().obbClusters;
+  options.obbTestCost = device_->config().obbTestCost;
   device_->execute([&] { accel_.build(desc, options); });
   ++buildGeneration_;
 

@@ -3,8 +3,13 @@
 
 namespace obvh {
 
-// How the binary tree is laid out for traversal.
-enum class AccelLayout { Bvh2, Bvh4 };
+// How the binary tree is laid out for traversal: axis-aligned boxes (binary or four-wide), an
+// oriented box per node (Obb), or per node whichever of the two is cheaper by SAH (Hybrid).
+enum class AccelLayout { Bvh2, Bvh4, Obb, Hybrid };
+
+// How the Obb and Hybrid layouts choose splits: the axis-aligned binned SAH builder, or binned
+// SAH, object median or spatial midpoint along the axes of each node's own oriented box.
+enum class ObbSplit { AabbSah, Sah, Median, Midpoint };
 
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
@@ -16,6 +21,11 @@ struct BuildOptions {
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit
   float intersectionCost = 1.0f;  // relative cost of one primitive test
+  // Oriented layouts.
+  ObbSplit obbSplit = ObbSplit::Sah;
+  int obbBins = 32;
+  float obbTestCost = 2.0f;       // cost of one oriented-box test relative to traversalCost (one AABB test)
+  int obbClusters = 0;            // k-means clusters of leaf box frames; 0 = every leaf keeps its own
 };
 
 }  // namespace obvh

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "builders/binned_sah_builder.h"
+#include "builders/obb_split_builder.h"
+#include "bvh/oriented_layout.h"
 #include "scene/primitive_collection.h"
 #include "traversal/bvh2_traverse.h"
 
@@ -88,7 +90,11 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   layout_ = options.layout;
   BuildOptions triangleOptions = options;
   if (layout_ == AccelLayout::Bvh4) triangleOptions.maxLeafSize = std::min(options.maxLeafSize, 15);  // 4-bit count
-  triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
+  options_ = triangleOptions;
+  const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
+  triangleBvh_ = oriented && options.obbSplit != ObbSplit::AabbSah
+                     ? buildInObbFrames(collected.refs, collected.triangles.data(), triangleOptions)
+                     : buildBinnedSah(collected.refs, triangleOptions);
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });
@@ -126,8 +132,14 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   triangleView_ = TriangleBvhView{};
   triangleView4_ = TriangleBvh4View{};
   triangleBvh4_ = Bvh4{};
+  triangleOriented_ = OrientedBvh{};
+  triangleOrientedView_ = TriangleOrientedView{};
   if (!triangleBvh_.empty()) {
     triangleView_ = {triangleBvh_.nodes.data(), set};
+    if (oriented) {
+      triangleOriented_ = makeOrientedLayout(triangleBvh_, triangles_.data(), triangleOptions);
+      triangleOrientedView_ = {&triangleOriented_, set};
+    }
     if (layout_ == AccelLayout::Bvh4) {
       triangleBvh4_ = collapseToBvh4(triangleBvh_);
       triangleView4_ = {triangleBvh4_.nodes.data(), triangleBvh4_.rootChild, set};
@@ -172,12 +184,14 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
   return instance.child->occluded(toLocal(instance, ray), inner);
 }
 
-bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state) const {
+bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
   bool found = false;
   if (layout_ == AccelLayout::Bvh4)
     found = !triangleView4_.empty() && intersectClosestBvh4(triangleView4_, ray, hit, state);
+  else if (layout_ == AccelLayout::Bvh2)
+    found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
   else
-    found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state);
+    found = !triangleOrientedView_.empty() && intersectClosestOriented(triangleOrientedView_, ray, hit, state, counters);
   if (objectBvh_.empty()) return found;
   traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i)
@@ -187,10 +201,12 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state) const {
   return found;
 }
 
-bool SceneAccel::occluded(const Ray& ray, const QueryState& state) const {
+bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters) const {
   if (layout_ == AccelLayout::Bvh4) {
     if (!triangleView4_.empty() && intersectAnyBvh4(triangleView4_, ray, state)) return true;
-  } else if (!triangleView_.empty() && intersectAny(triangleView_, ray, state)) {
+  } else if (layout_ == AccelLayout::Bvh2) {
+    if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
+  } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
     return true;
   }
   if (objectBvh_.empty()) return false;
@@ -258,8 +274,14 @@ SceneStats SceneAccel::stats() const {
   s.memoryBytes = triangleBvh_.nodes.size() * sizeof(Bvh2Node) + triangleBvh4_.nodes.size() * sizeof(Bvh4Node) +
                   objectBvh_.nodes.size() * sizeof(Bvh2Node) + triangles_.size() * sizeof(StoredTriangle) +
                   objects_.size() * sizeof(ObjectRef) + instances_.size() * sizeof(Instance) +
-                  geometryMasks_.size() * (sizeof(uint32_t) + 2);
+                  geometryMasks_.size() * (sizeof(uint32_t) + 2) +
+                  triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame);
   return s;
+}
+
+LayoutMetrics SceneAccel::triangleLayoutMetrics() const {
+  if (layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid) return measureLayout(triangleOriented_, options_);
+  return measureLayout(triangleBvh_, options_);
 }
 
 }  // namespace obvh

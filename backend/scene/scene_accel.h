@@ -10,8 +10,11 @@
 #include "intersect/triangle.h"
 #include "scene/scene_desc.h"
 #include "bvh/bvh4.h"
+#include "bvh/oriented_bvh.h"
 #include "traversal/bvh2_traversal.h"
 #include "traversal/bvh4_traversal.h"
+#include "traversal/oriented_traversal.h"
+#include "traversal/traversal_counters.h"
 #include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
 
@@ -31,8 +34,12 @@ class SceneAccel {
   const Box3f& bounds() const { return bounds_; }
   SceneStats stats() const;
 
-  bool intersect(Ray& ray, Hit& hit, const QueryState& state) const;
-  bool occluded(const Ray& ray, const QueryState& state) const;
+  // counters (metrics only) count the volume tests of the triangle BVH; they are kept for the
+  // binary and oriented layouts (accel=bvh2|obb|hybrid), not for bvh4.
+  bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
+  bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
+  // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4: its binary tree).
+  LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when
   // instance is null); returns true when any callback reported a change.
   bool pointQuery(const Vec3f& point, PointQueryCallbacks& callbacks, const PointQueryInstance* instance = nullptr,
@@ -64,6 +71,9 @@ class SceneAccel {
   BinaryBvh triangleBvh_;
   Bvh4 triangleBvh4_;
   TriangleBvh4View triangleView4_;
+  OrientedBvh triangleOriented_;
+  TriangleOrientedView triangleOrientedView_;
+  BuildOptions options_;
   std::vector<StoredTriangle> triangles_;
   // Instances and user primitives.
   BinaryBvh objectBvh_;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "bvh/binary_bvh.h"
+#include "traversal/traversal_counters.h"
 #include "traversal/triangle_leaf.h"
 
 namespace obvh {
@@ -13,9 +14,11 @@ struct TriangleBvhView {
 };
 
 // Closest hit in (ray.tnear, ray.tfar]; on a hit updates ray.tfar and hit and returns true.
-bool intersectClosest(const TriangleBvhView& bvh, Ray& ray, Hit& hit, const QueryState& state);
+bool intersectClosest(const TriangleBvhView& bvh, Ray& ray, Hit& hit, const QueryState& state,
+                      TraversalCounters* counters = nullptr);
 
 // Any hit in (ray.tnear, ray.tfar] that the filters accept.
-bool intersectAny(const TriangleBvhView& bvh, const Ray& ray, const QueryState& state);
+bool intersectAny(const TriangleBvhView& bvh, const Ray& ray, const QueryState& state,
+                  TraversalCounters* counters = nullptr);
 
 }  // namespace obvh

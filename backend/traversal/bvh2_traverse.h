@@ -1,25 +1,29 @@
-// Generic scalar stack traversal of a binary BVH, nearer child first. The leaf visitor tests the
+// Scalar stack traversal of binary BVHs, nearer child first. The leaf visitor tests the
 // leaf's primitives (it may shrink ray.tfar) and returns true to end the traversal early.
 #pragma once
 
 #include <limits>
+#include <utility>
 
 #include "bvh/binary_bvh.h"
 #include "traversal/box_test.h"
+#include "traversal/traversal_counters.h"
 
 namespace obvh {
 
-template <typename LeafVisitor>
-void traverseBvh2(const Bvh2Node* nodes, const Ray& ray, LeafVisitor&& leafVisitor) {
-  constexpr int kStackSize = 128;  // builders bound the depth well below this (see binned_sah_builder)
+// Shared by the binary layouts: enter(node) returns the entry distance into a node's volume
+// within [ray.tnear, ray.tfar] or +inf (and counts the test); visit(leaf) tests the leaf.
+template <typename Node, typename Enter, typename LeafVisitor>
+void traverseBinaryTree(const Node* nodes, const Ray& ray, TraversalCounters* counters, Enter&& enter,
+                        LeafVisitor&& leafVisitor) {
+  constexpr int kStackSize = 128;  // builders bound the depth well below this (see the builders)
   constexpr float kMiss = std::numeric_limits<float>::infinity();
   struct StackEntry {
     uint32_t node;
     float tEntry;
   };
   if (nodes == nullptr) return;
-  const BoxRay boxRay(ray);
-  if (intersectBox(boxRay, nodes[0].bounds, ray.tnear, ray.tfar) == kMiss) return;
+  if (enter(nodes[0]) == kMiss) return;
   StackEntry stack[kStackSize];
   int top = 0;
   stack[top++] = {0, ray.tnear};
@@ -28,14 +32,15 @@ void traverseBvh2(const Bvh2Node* nodes, const Ray& ray, LeafVisitor&& leafVisit
     if (entry.tEntry > ray.tfar) continue;
     uint32_t current = entry.node;
     for (;;) {
-      const Bvh2Node& node = nodes[current];
+      const Node& node = nodes[current];
       if (node.isLeaf()) {
+        if (counters) ++counters->leafVisits;
         if (leafVisitor(node)) return;
         break;
       }
       const uint32_t left = node.firstChildOrPrim, right = left + 1;
-      const float tl = intersectBox(boxRay, nodes[left].bounds, ray.tnear, ray.tfar);
-      const float tr = intersectBox(boxRay, nodes[right].bounds, ray.tnear, ray.tfar);
+      const float tl = enter(nodes[left]);
+      const float tr = enter(nodes[right]);
       if (tl != kMiss && tr != kMiss) {
         const bool leftFirst = tl <= tr;
         if (top < kStackSize) stack[top++] = {leftFirst ? right : left, leftFirst ? tr : tl};
@@ -51,4 +56,23 @@ void traverseBvh2(const Bvh2Node* nodes, const Ray& ray, LeafVisitor&& leafVisit
   }
 }
 
+template <typename LeafVisitor>
+void traverseBvh2(const Bvh2Node* nodes, const Ray& ray, TraversalCounters* counters, LeafVisitor&& leafVisitor) {
+  const BoxRay boxRay(ray);
+  traverseBinaryTree(
+      nodes, ray, counters,
+      [&](const Bvh2Node& node) {
+        if (counters) ++counters->aabbTests;
+        return intersectBox(boxRay, node.bounds, ray.tnear, ray.tfar);
+      },
+      std::forward<LeafVisitor>(leafVisitor));
+}
+
+}  // namespace obvh
+
+namespace obvh {
+template <typename LeafVisitor>
+void traverseBvh2(const Bvh2Node* nodes, const Ray& ray, LeafVisitor&& leafVisitor) {
+  traverseBvh2(nodes, ray, nullptr, std::forward<LeafVisitor>(leafVisitor));
+}
 }  // namespace obvh

@@ -83,7 +83,9 @@ TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
 TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
   for (const char* config : {"", "threads=1", "verbose=0,isa=avx2", "accel=bvh4.triangle4", "foo=bar",
                              "accel=bvh2,intersector=watertight,build_bins=16,max_leaf_size=2", "accel=bvh4",
-                             "intersector=fast", "ray_mask=off"}) {
+                             "intersector=fast", "ray_mask=off", "accel=obb", "accel=hybrid,obb_split=median",
+                             "accel=obb,obb_split=midpoint,obb_bins=100,obb_clusters=1000,obb_cost=15",
+                             "accel=hybrid,obb_split=aabb"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -93,7 +95,8 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
 
 TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
   for (const char* config : {"threads=-1", "accel=bvh8", "accel=nonsense", "intersector=foo",
-                             "build_bins=1", "max_leaf_size=x", "ray_mask=maybe"}) {
+                             "build_bins=1", "max_leaf_size=x", "ray_mask=maybe", "obb_split=best", "obb_bins=1",
+                             "obb_clusters=-1", "obb_cost=0"}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;
   }

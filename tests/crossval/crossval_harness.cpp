@@ -117,10 +117,9 @@ void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOcclud
   counts.add(c, ray);
 }
 
-CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
+CrossvalCounts compareCommittedOcclusion(const SceneData& scene, const tools::CommittedScene& reference,
+                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays) {
   const LoadedLibraries& libs = libraries();
-  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
-  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, flags);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   CrossvalCounts counts;
@@ -132,6 +131,13 @@ CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRa
     judgeOcclusion(scene, ray, a.tfar == hit, b.tfar == hit, counts);
   }
   return counts;
+}
+
+CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays, RTCSceneFlags flags) {
+  const LoadedLibraries& libs = libraries();
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, flags);
+  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, flags);
+  return compareCommittedOcclusion(scene, reference, candidate, rays);
 }
 
 std::vector<RTCRay> raysThroughEdgesAndVertices(const tools::MeshData& mesh, size_t count, uint32_t seed) {

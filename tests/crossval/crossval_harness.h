@@ -39,6 +39,9 @@ CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCR
 // Traces rays with rtcIntersect1 through two already committed scenes and compares every answer.
 CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedScene& reference,
                                 const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays);
+// rtcOccluded1 through two committed scenes; a differing answer is judged in double precision.
+CrossvalCounts compareCommittedOcclusion(const SceneData& scene, const tools::CommittedScene& reference,
+                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays);
 // The same for rtcOccluded1; a differing answer is judged by a brute-force double-precision test.
 CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays,
                                  RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);

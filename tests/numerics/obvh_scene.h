@@ -41,10 +41,11 @@ struct ObvhMode {
   const char* config;
   RTCSceneFlags flags;
 };
-// Every mode: watertight (default), RTC_SCENE_FLAG_ROBUST, the fast intersector, the binary layout.
-extern const ObvhMode kEveryMode[4];
+// Every mode: watertight (default), RTC_SCENE_FLAG_ROBUST, the fast intersector, the binary
+// layout, the oriented layouts (obb, hybrid, obb with clustered leaf frames).
+extern const ObvhMode kEveryMode[7];
 // The modes that promise watertightness (the fast intersector does not; the accuracy study measures it).
-extern const ObvhMode kWatertightModes[3];
+extern const ObvhMode kWatertightModes[6];
 std::string modeName(const ::testing::TestParamInfo<ObvhMode>& info);
 void PrintTo(const ObvhMode& mode, std::ostream* os);
 
