@@ -52,10 +52,7 @@ class ObbFrameBuilder {
  private:
   const StoredTriangle& triangle(size_t i) const { return triangles_[refs_[i].index]; }
 
-  Vec3f centroid(size_t i) const {
-    const StoredTriangle& t = triangle(i);
-    return (t.v0 + t.v1 + t.v2) * (1.f / 3.f);
-  }
+  Vec3f centroid(size_t i) const { return centroidOf(refs_[i]); }
 
   // Returns the partition point, or begin when the range should stay a leaf.
   size_t split(size_t begin, size_t end, int depth, bool mayStayLeaf) {
