@@ -82,6 +82,12 @@ CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedSc
   return counts;
 }
 
+ObvhDevice::ObvhDevice(const char* config) : device_(libraries().obvh->rtcNewDevice(config)) {}
+
+ObvhDevice::~ObvhDevice() {
+  if (device_) libraries().obvh->rtcReleaseDevice(device_);
+}
+
 void expectNoMismatch(const char* what, const CrossvalCounts& counts) {
   std::printf("[crossval] %-34s %s\n", what, counts.summary().c_str());
   ::testing::Test::RecordProperty(std::string(what) + "_rays", std::to_string(counts.rays));

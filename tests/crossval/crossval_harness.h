@@ -22,6 +22,19 @@ struct LoadedLibraries {
   RTCDevice obvhDevice = nullptr;
 };
 
+// An extra obvh device with its own config string (accel=..., intersector=...), released at scope end.
+class ObvhDevice {
+ public:
+  explicit ObvhDevice(const char* config);
+  ~ObvhDevice();
+  ObvhDevice(const ObvhDevice&) = delete;
+  ObvhDevice& operator=(const ObvhDevice&) = delete;
+  RTCDevice get() const { return device_; }
+
+ private:
+  RTCDevice device_;
+};
+
 // Loaded once per process; aborts the test binary with a clear message when a library is missing.
 const LoadedLibraries& libraries();
 

@@ -48,30 +48,28 @@ TEST(CrossvalIntersect, BoxesOfTrianglesAndQuads) {
 // the default layout.
 TEST(CrossvalIntersect, BinaryLayoutMatchesEmbree) {
   const LoadedLibraries& libs = libraries();
-  RTCDevice bvh2 = libs.obvh->rtcNewDevice("accel=bvh2");
-  ASSERT_NE(bvh2, nullptr);
+  const ObvhDevice bvh2("accel=bvh2");
+  ASSERT_NE(bvh2.get(), nullptr);
   const float center[3] = {0.f, 0.f, 0.f};
   SceneData scene = single("icosphere+soup", icosphere(4, 1.f, center));
   scene.meshes.push_back(randomTriangleSoup(10000, 19));
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-  tools::CommittedScene candidate(*libs.obvh, bvh2, scene);
+  tools::CommittedScene candidate(*libs.obvh, bvh2.get(), scene);
   expectNoMismatch("accel=bvh2", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 20)));
-  libs.obvh->rtcReleaseDevice(bvh2);
 }
 
 // intersector=fast (Moeller-Trumbore) against Embree's default path, which uses the same test.
 TEST(CrossvalIntersect, FastIntersectorMatchesEmbree) {
   const LoadedLibraries& libs = libraries();
-  RTCDevice fast = libs.obvh->rtcNewDevice("intersector=fast");
-  ASSERT_NE(fast, nullptr);
+  const ObvhDevice fast("intersector=fast");
+  ASSERT_NE(fast.get(), nullptr);
   const float center[3] = {0.f, 0.f, 0.f};
   SceneData scene = single("icosphere+soup+quads", icosphere(4, 1.f, center));
   scene.meshes.push_back(randomTriangleSoup(10000, 21));
   scene.meshes.push_back(quadGrid(30, 0.3f, 22));
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-  tools::CommittedScene candidate(*libs.obvh, fast, scene);
+  tools::CommittedScene candidate(*libs.obvh, fast.get(), scene);
   expectNoMismatch("intersector=fast", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 23)));
-  libs.obvh->rtcReleaseDevice(fast);
 }
 
 TEST(CrossvalIntersect, NonPlanarQuadGrid) {

@@ -18,16 +18,13 @@ class OrientedLayouts : public ::testing::TestWithParam<const char*> {
   // Intersections and occlusions through a device with this test's config.
   void expectSameAnswers(const std::string& what, const SceneData& scene, const std::vector<RTCRay>& rays) {
     const LoadedLibraries& libs = libraries();
-    RTCDevice device = libs.obvh->rtcNewDevice(GetParam());
-    ASSERT_NE(device, nullptr) << GetParam();
-    {
-      tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-      tools::CommittedScene candidate(*libs.obvh, device, scene);
-      ASSERT_EQ(libs.obvh->rtcGetDeviceError(device), RTC_ERROR_NONE);
-      expectNoMismatch((what + " intersect").c_str(), compareCommitted(scene, reference, candidate, rays));
-      expectNoMismatch((what + " occluded").c_str(), compareCommittedOcclusion(scene, reference, candidate, rays));
-    }
-    libs.obvh->rtcReleaseDevice(device);
+    const ObvhDevice device(GetParam());
+    ASSERT_NE(device.get(), nullptr) << GetParam();
+    tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+    tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
+    ASSERT_EQ(libs.obvh->rtcGetDeviceError(device.get()), RTC_ERROR_NONE);
+    expectNoMismatch((what + " intersect").c_str(), compareCommitted(scene, reference, candidate, rays));
+    expectNoMismatch((what + " occluded").c_str(), compareCommittedOcclusion(scene, reference, candidate, rays));
   }
 };
 
