@@ -4,8 +4,12 @@
 #include <sstream>
 
 #include "api_error.h"
+#include "simd/cpu_features.h"
 
 namespace obvh::api {
+
+AccelLayout fastestAccel() { return simd::cpuHasAvx2() ? AccelLayout::Bvh8 : AccelLayout::Bvh4; }
+
 namespace {
 
 std::string trim(const std::string& s) {
@@ -51,9 +55,11 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       } else if (value == "hybrid") {
         config.accel = AccelLayout::Hybrid;
       } else if (value == "bvh8") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "accel=bvh8 is not implemented by obvh yet (available: bvh2, bvh4, obb, hybrid)");
-      } else if (value.find('.') == std::string::npos && value != "default") {
-        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2, bvh4, obb, hybrid)");
+        config.accel = AccelLayout::Bvh8;
+      } else if (value == "default") {
+        config.accel = fastestAccel();
+      } else if (value.find('.') == std::string::npos) {
+        fail(RTC_ERROR_INVALID_ARGUMENT, "unknown accel '" + value + "' (available: bvh2, bvh4, bvh8, obb, hybrid)");
       }
     } else if (name == "obb_split") {
       if (value == "sah") config.obbSplit = ObbSplit::Sah;

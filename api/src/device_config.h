@@ -7,11 +7,13 @@
 
 namespace obvh::api {
 
+// The fastest layout this CPU runs: bvh8 with AVX2, else bvh4 (measured: README, performance).
+AccelLayout fastestAccel();
 
 struct DeviceConfig {
   int threads = 0;  // 0: TBB's default
   int verbose = 0;
-  AccelLayout accel = AccelLayout::Bvh4;  // the fastest layout is the default
+  AccelLayout accel = fastestAccel();
   // RTC_SCENE_FLAG_ROBUST always selects the watertight test; this is the default for other scenes.
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;

@@ -86,6 +86,7 @@ class BinnedSahBuilder {
       : refs_(refs), options_(options), out_(out) {
     options_.binCount = std::clamp(options_.binCount, 2, kMaxBins);
     options_.maxLeafSize = std::max(options_.maxLeafSize, 1);
+    options_.leafBlockSize = std::max(options_.leafBlockSize, 1);
   }
 
   void run() {
@@ -148,6 +149,12 @@ class BinnedSahBuilder {
         });
   }
 
+  // Leaves are tested leafBlockSize primitives at a time: a partly filled block costs a full one.
+  float blocks(size_t count) const {
+    const size_t b = size_t(options_.leafBlockSize);
+    return float((count + b - 1) / b);
+  }
+
   Split findBestSplit(const Bins& bins, int binCount) const {
     Split best;
     std::array<float, kMaxBins> rightCost{};
@@ -158,7 +165,7 @@ class BinnedSahBuilder {
       for (int b = binCount - 1; b > 0; --b) {
         accumulated.extend(bins.bounds(axis, b));
         count += bins.count(axis, b);
-        rightCost[b] = accumulated.halfArea() * float(count);
+        rightCost[b] = accumulated.halfArea() * blocks(count);
         rightCount[b] = count;
       }
       accumulated = Box3f{};
@@ -166,7 +173,7 @@ class BinnedSahBuilder {
       for (int b = 1; b < binCount; ++b) {
         accumulated.extend(bins.bounds(axis, b - 1));
         count += bins.count(axis, b - 1);
-        const float cost = accumulated.halfArea() * float(count) + rightCost[b];
+        const float cost = accumulated.halfArea() * blocks(count) + rightCost[b];
         if (count > 0 && rightCount[b] > 0 && cost < best.cost) best = Split{axis, b, cost};
       }
     }
@@ -220,7 +227,7 @@ class BinnedSahBuilder {
       const Bins bins = binAll(begin, end, mapping);
       const Split split = findBestSplit(bins, binCount);
       const float parentArea = info.bounds.halfArea();
-      const float leafCost = options_.intersectionCost * float(n);
+      const float leafCost = options_.intersectionCost * blocks(n);
       const float splitCost =
           options_.traversalCost +
           (parentArea > 0.f ? options_.intersectionCost * split.cost / parentArea : leafCost);

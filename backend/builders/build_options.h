@@ -3,9 +3,9 @@
 
 namespace obvh {
 
-// How the binary tree is laid out for traversal: axis-aligned boxes (binary or four-wide), an
-// oriented box per node (Obb), or per node whichever of the two is cheaper by SAH (Hybrid).
-enum class AccelLayout { Bvh2, Bvh4, Obb, Hybrid };
+// How the binary tree is laid out for traversal: axis-aligned boxes (binary, four- or eight-wide),
+// an oriented box per node (Obb), or per node whichever of the two is cheaper by SAH (Hybrid).
+enum class AccelLayout { Bvh2, Bvh4, Bvh8, Obb, Hybrid };
 
 // How the Obb and Hybrid layouts choose splits: the axis-aligned binned SAH builder, or binned
 // SAH, object median or spatial midpoint along the axes of each node's own oriented box.
@@ -21,6 +21,7 @@ struct BuildOptions {
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit
   float intersectionCost = 1.0f;  // relative cost of one primitive test
+  int leafBlockSize = 1;          // primitives tested together (SIMD leaf blocks); the SAH counts whole blocks
   // Oriented layouts.
   ObbSplit obbSplit = ObbSplit::Sah;
   int obbBins = 32;

@@ -39,6 +39,45 @@ struct TriangleHit {
   float t, u, v;
 };
 
+// Second half of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared
+// frame, no mixed signs) are known: rejects det == 0 and computes t, u, v. Split out so that SIMD
+// kernels that evaluate the edge functions of several triangles at once share it.
+inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
+                                 const Vec3f& v2, float U, float V, float W, TriangleHit& out) {
+  const float det = U + V + W;
+  if (!(det != 0.f)) return false;  // also rejects NaN
+
+  // The edge functions decide whether the ray hits (that is what makes the test watertight), but
+  // in single precision the shear loses accuracy for small triangles far from the ray origin and
+  // for grazing rays. Distance and barycentrics of an accepted candidate are therefore recomputed
+  // in double precision from the triangle's own edges; this costs a few operations per accepted
+  // candidate, not per test.
+  const double ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
+  const double dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
+  const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
+  const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
+  const double sx = ox - v0.x, sy = oy - v0.y, sz = oz - v0.z;
+  const double px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
+  const double edgeDet = e1x * px + e1y * py + e1z * pz;
+  if (edgeDet == 0.0) {
+    // Only a degenerate triangle gets here; keep the sheared values rather than drop the hit.
+    const Vec3f A = v0 - wr.org, B = v1 - wr.org, C = v2 - wr.org;
+    const float Az = wr.Sz * A[wr.kz], Bz = wr.Sz * B[wr.kz], Cz = wr.Sz * C[wr.kz];
+    const float rcpDet = 1.f / det;
+    const float t = (U * Az + V * Bz + W * Cz) * rcpDet;
+    if (!(t > ray.tnear && t <= ray.tfar)) return false;
+    // U weighs v0, V weighs v1 and W weighs v2; Embree's u and v are the weights of v1 and v2.
+    out = {t, V * rcpDet, W * rcpDet};
+    return true;
+  }
+  const double qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
+  const double rcpEdgeDet = 1.0 / edgeDet;
+  const float t = float((e2x * qx + e2y * qy + e2z * qz) * rcpEdgeDet);
+  if (!(t > ray.tnear && t <= ray.tfar)) return false;
+  out = {t, float((sx * px + sy * py + sz * pz) * rcpEdgeDet), float((dx * qx + dy * qy + dz * qz) * rcpEdgeDet)};
+  return true;
+}
+
 // Returns true and fills out when the ray hits the triangle with tnear < t <= tfar.
 inline bool intersectWatertight(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
                                 const Vec3f& v2, TriangleHit& out) {
@@ -56,38 +95,7 @@ inline bool intersectWatertight(const WatertightRay& wr, const Ray& ray, const V
     W = float(double(Bx) * double(Ay) - double(By) * double(Ax));
   }
   if ((U < 0.f || V < 0.f || W < 0.f) && (U > 0.f || V > 0.f || W > 0.f)) return false;
-
-  const float det = U + V + W;
-  if (!(det != 0.f)) return false;  // also rejects NaN
-
-  // The edge functions above decide whether the ray hits (that is what makes the test watertight),
-  // but in single precision the shear loses accuracy for small triangles far from the ray origin
-  // and for grazing rays. Distance and barycentrics of an accepted candidate are therefore
-  // recomputed in double precision from the triangle's own edges; this costs a few operations per
-  // accepted candidate, not per test.
-  const double ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
-  const double dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
-  const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
-  const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
-  const double sx = ox - v0.x, sy = oy - v0.y, sz = oz - v0.z;
-  const double px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
-  const double edgeDet = e1x * px + e1y * py + e1z * pz;
-  if (edgeDet == 0.0) {
-    // Only a degenerate triangle gets here; keep the sheared values rather than drop the hit.
-    const float Az = wr.Sz * A[wr.kz], Bz = wr.Sz * B[wr.kz], Cz = wr.Sz * C[wr.kz];
-    const float rcpDet = 1.f / det;
-    const float t = (U * Az + V * Bz + W * Cz) * rcpDet;
-    if (!(t > ray.tnear && t <= ray.tfar)) return false;
-    // U weighs v0, V weighs v1 and W weighs v2; Embree's u and v are the weights of v1 and v2.
-    out = {t, V * rcpDet, W * rcpDet};
-    return true;
-  }
-  const double qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
-  const double rcpEdgeDet = 1.0 / edgeDet;
-  const float t = float((e2x * qx + e2y * qy + e2z * qz) * rcpEdgeDet);
-  if (!(t > ray.tnear && t <= ray.tfar)) return false;
-  out = {t, float((sx * px + sy * py + sz * pz) * rcpEdgeDet), float((dx * qx + dy * qy + dz * qz) * rcpEdgeDet)};
-  return true;
+  return resolveWatertightHit(wr, ray, v0, v1, v2, U, V, W, out);
 }
 
 // Embree's geometry normal: cross(v2 - v0, v0 - v1), unnormalized.

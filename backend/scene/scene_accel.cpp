@@ -89,7 +89,12 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   CollectedPrimitives collected = collectPrimitives(desc.meshes);
   layout_ = options.layout;
   BuildOptions triangleOptions = options;
-  if (layout_ == AccelLayout::Bvh4) triangleOptions.maxLeafSize = std::min(options.maxLeafSize, 15);  // 4-bit count
+  const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
+  // A wide leaf's block count has 4 bits.
+  if (wide) {
+    triangleOptions.maxLeafSize = std::min<int>(options.maxLeafSize, 4 * Bvh4Node::kMaxLeafBlocks);
+    triangleOptions.leafBlockSize = 4;
+  }
   options_ = triangleOptions;
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
   triangleBvh_ = oriented && options.obbSplit != ObbSplit::AabbSah
@@ -130,8 +135,10 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   const TriangleSet set{triangles_.data(), geometryMasks_.data(), intersectFiltered_.data(), occlusionFiltered_.data(),
                         owner_, options.intersector == IntersectorMode::Fast};
   triangleView_ = TriangleBvhView{};
-  triangleView4_ = TriangleBvh4View{};
-  triangleBvh4_ = Bvh4{};
+  triangleView4_ = {};
+  triangleBvh4_ = {};
+  triangleView8_ = {};
+  triangleBvh8_ = {};
   triangleOriented_ = OrientedBvh{};
   triangleOrientedView_ = TriangleOrientedView{};
   if (!triangleBvh_.empty()) {
@@ -141,8 +148,11 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
       triangleOrientedView_ = {&triangleOriented_, set};
     }
     if (layout_ == AccelLayout::Bvh4) {
-      triangleBvh4_ = collapseToBvh4(triangleBvh_);
-      triangleView4_ = {triangleBvh4_.nodes.data(), triangleBvh4_.rootChild, set};
+      triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data());
+      triangleView4_ = makeWideView(triangleBvh4_, set);
+    } else if (layout_ == AccelLayout::Bvh8) {
+      triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data());
+      triangleView8_ = makeWideView(triangleBvh8_, set);
     }
   }
 }
@@ -187,7 +197,9 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
 bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
   bool found = false;
   if (layout_ == AccelLayout::Bvh4)
-    found = !triangleView4_.empty() && intersectClosestBvh4(triangleView4_, ray, hit, state);
+    found = !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
+  else if (layout_ == AccelLayout::Bvh8)
+    found = !triangleView8_.empty() && intersectClosestWide(triangleView8_, ray, hit, state);
   else if (layout_ == AccelLayout::Bvh2)
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
   else
@@ -203,7 +215,9 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
 
 bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters) const {
   if (layout_ == AccelLayout::Bvh4) {
-    if (!triangleView4_.empty() && intersectAnyBvh4(triangleView4_, ray, state)) return true;
+    if (!triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state)) return true;
+  } else if (layout_ == AccelLayout::Bvh8) {
+    if (!triangleView8_.empty() && intersectAnyWide(triangleView8_, ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh2) {
     if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
@@ -267,11 +281,14 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
 SceneStats SceneAccel::stats() const {
   SceneStats s;
   s.primitiveCount = triangles_.size() + objects_.size();
-  s.nodeCount = (layout_ == AccelLayout::Bvh4 ? triangleBvh4_.nodes.size() : triangleBvh_.nodes.size()) +
+  const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
+  s.nodeCount = (wide ? triangleBvh4_.nodes.size() + triangleBvh8_.nodes.size() : triangleBvh_.nodes.size()) +
                 objectBvh_.nodes.size();
   for (const Bvh2Node& node : triangleBvh_.nodes) s.leafCount += node.isLeaf() ? 1 : 0;
   for (const Bvh2Node& node : objectBvh_.nodes) s.leafCount += node.isLeaf() ? 1 : 0;
   s.memoryBytes = triangleBvh_.nodes.size() * sizeof(Bvh2Node) + triangleBvh4_.nodes.size() * sizeof(Bvh4Node) +
+                  triangleBvh8_.nodes.size() * sizeof(Bvh8Node) +
+                  (triangleBvh4_.blocks.size() + triangleBvh8_.blocks.size()) * sizeof(TriangleBlock4) +
                   objectBvh_.nodes.size() * sizeof(Bvh2Node) + triangles_.size() * sizeof(StoredTriangle) +
                   objects_.size() * sizeof(ObjectRef) + instances_.size() * sizeof(Instance) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +

@@ -9,10 +9,10 @@
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
 #include "scene/scene_desc.h"
-#include "bvh/bvh4.h"
+#include "bvh/wide_bvh.h"
 #include "bvh/oriented_bvh.h"
 #include "traversal/bvh2_traversal.h"
-#include "traversal/bvh4_traversal.h"
+#include "traversal/wide_traversal.h"
 #include "traversal/oriented_traversal.h"
 #include "traversal/traversal_counters.h"
 #include "traversal/point_query_callbacks.h"
@@ -35,10 +35,10 @@ class SceneAccel {
   SceneStats stats() const;
 
   // counters (metrics only) count the volume tests of the triangle BVH; they are kept for the
-  // binary and oriented layouts (accel=bvh2|obb|hybrid), not for bvh4.
+  // binary and oriented layouts (accel=bvh2|obb|hybrid), not for the wide ones.
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
-  // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4: its binary tree).
+  // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary tree).
   LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when
   // instance is null); returns true when any callback reported a change.
@@ -66,11 +66,13 @@ class SceneAccel {
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);
 
-  // Triangles and quads: the binary tree, and its four-wide form when that layout is selected.
+  // Triangles and quads: the binary tree, and its wide or oriented form when that layout is selected.
   AccelLayout layout_ = AccelLayout::Bvh4;
   BinaryBvh triangleBvh_;
-  Bvh4 triangleBvh4_;
-  TriangleBvh4View triangleView4_;
+  WideBvh<4> triangleBvh4_;
+  TriangleWideView<4> triangleView4_;
+  WideBvh<8> triangleBvh8_;
+  TriangleWideView<8> triangleView8_;
   OrientedBvh triangleOriented_;
   TriangleOrientedView triangleOrientedView_;
   BuildOptions options_;

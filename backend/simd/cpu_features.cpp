@@ -11,4 +11,13 @@ bool cpuHasSse42() {
 #endif
 }
 
+bool cpuHasAvx2() {
+#if defined(__x86_64__) || defined(__i386__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
 }  // namespace obvh::simd

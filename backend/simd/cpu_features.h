@@ -4,5 +4,6 @@
 namespace obvh::simd {
 
 bool cpuHasSse42();
+bool cpuHasAvx2();
 
 }  // namespace obvh::simd

@@ -94,7 +94,7 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
 }
 
 TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
-  for (const char* config : {"threads=-1", "accel=bvh8", "accel=nonsense", "intersector=foo",
+  for (const char* config : {"threads=-1", "accel=bvh16", "accel=nonsense", "intersector=foo",
                              "build_bins=1", "max_leaf_size=x", "ray_mask=maybe", "obb_split=best", "obb_bins=1",
                              "obb_clusters=-1", "obb_cost=0"}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;

@@ -44,19 +44,26 @@ TEST(CrossvalIntersect, BoxesOfTrianglesAndQuads) {
   expectNoMismatch("boxes quad edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 8)));
 }
 
-// The binary layout (accel=bvh2, the scalar reference) against Embree too; the other tests use
-// the default layout.
-TEST(CrossvalIntersect, BinaryLayoutMatchesEmbree) {
+// Every axis-aligned layout against Embree (the other tests use the default, bvh8 on AVX2 CPUs):
+// the binary reference, four-wide, and leaves of several blocks with padded lanes.
+class CrossvalAabbLayouts : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(CrossvalAabbLayouts, MatchEmbree) {
   const LoadedLibraries& libs = libraries();
-  const ObvhDevice bvh2("accel=bvh2");
-  ASSERT_NE(bvh2.get(), nullptr);
+  const ObvhDevice device(GetParam());
+  ASSERT_NE(device.get(), nullptr);
   const float center[3] = {0.f, 0.f, 0.f};
-  SceneData scene = single("icosphere+soup", icosphere(4, 1.f, center));
+  SceneData scene = single("icosphere+soup+quads", icosphere(4, 1.f, center));
   scene.meshes.push_back(randomTriangleSoup(10000, 19));
+  scene.meshes.push_back(quadGrid(30, 0.3f, 24));
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-  tools::CommittedScene candidate(*libs.obvh, bvh2.get(), scene);
-  expectNoMismatch("accel=bvh2", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 20)));
+  tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
+  expectNoMismatch(GetParam(), compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 20)));
 }
+
+INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
+                         ::testing::Values("accel=bvh2", "accel=bvh4", "accel=bvh8", "accel=bvh4,max_leaf_size=11",
+                                           "accel=bvh8,max_leaf_size=7", "accel=bvh8,max_leaf_size=1"));
 
 // intersector=fast (Moeller-Trumbore) against Embree's default path, which uses the same test.
 TEST(CrossvalIntersect, FastIntersectorMatchesEmbree) {

@@ -1,0 +1,48 @@
+// Wide BVHs (four or eight children a node): binary nodes collapsed by repeatedly opening the
+// child with the largest surface area. Child bounds are stored as structure of arrays so one SIMD
+// test covers every child box; leaves reference groups of four triangles (TriangleBlock4).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/binary_bvh.h"
+#include "bvh/triangle_block.h"
+
+namespace obvh {
+
+template <int N>
+struct alignas(64) WideNode {  // cache-line aligned: a node's boxes load in as few lines as possible
+  static constexpr int kWidth = N;
+  // bounds[axis * 2 + 0] = lower, bounds[axis * 2 + 1] = upper, one lane per child.
+  float bounds[6][N];
+  uint32_t child[N];  // interior: node index; leaf: kLeafFlag | firstBlock << 4 | blockCount; empty: kEmptyChild
+
+  static constexpr uint32_t kLeafFlag = 0x80000000u;
+  static constexpr uint32_t kEmptyChild = 0xFFFFFFFFu;
+  static constexpr uint32_t kMaxLeafBlocks = 15;
+  static bool isLeaf(uint32_t c) { return (c & kLeafFlag) != 0; }
+  static uint32_t leafFirstBlock(uint32_t c) { return (c & ~kLeafFlag) >> 4; }
+  static uint32_t leafBlockCount(uint32_t c) { return c & 15u; }
+};
+
+using Bvh4Node = WideNode<4>;
+using Bvh8Node = WideNode<8>;
+
+template <int N>
+struct WideBvh {
+  std::vector<WideNode<N>> nodes;  // nodes[0] is the root
+  std::vector<TriangleBlock4> blocks;
+  uint32_t rootChild = WideNode<N>::kEmptyChild;  // a leaf root is stored here instead of as a node
+  bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
+};
+
+// trianglesInLeafOrder are the binary tree's triangles ordered by its primIndices; the binary
+// tree's leaves may hold at most 4 * kMaxLeafBlocks triangles.
+template <int N>
+WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder);
+
+extern template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*);
+extern template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*);
+
+}  // namespace obvh

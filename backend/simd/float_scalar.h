@@ -1,0 +1,55 @@
+// N-lane float vectors in plain C++: the reference the SIMD types (float4_sse.h, float8_avx.h)
+// mirror operation by operation, so the same kernel template yields the scalar path the tests
+// compare against. NaN rules follow the x86 instructions.
+#pragma once
+
+#include <algorithm>
+
+namespace obvh::simd {
+
+template <int N>
+struct FloatScalar {
+  static constexpr int kWidth = N;
+  float v[N];
+
+  static FloatScalar broadcast(float x) {
+    FloatScalar r;
+    std::fill(r.v, r.v + N, x);
+    return r;
+  }
+  static FloatScalar load(const float* p) {
+    FloatScalar r;
+    std::copy(p, p + N, r.v);
+    return r;
+  }
+  void store(float* p) const { std::copy(v, v + N, p); }
+
+  template <typename Op>
+  static FloatScalar map(const FloatScalar& a, const FloatScalar& b, Op op) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = op(a.v[i], b.v[i]);
+    return r;
+  }
+  template <typename Cmp>
+  static int maskOf(const FloatScalar& a, const FloatScalar& b, Cmp cmp) {
+    int m = 0;
+    for (int i = 0; i < N; ++i) m |= int(cmp(a.v[i], b.v[i])) << i;
+    return m;
+  }
+
+  friend FloatScalar operator+(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x + y; }); }
+  friend FloatScalar operator-(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x - y; }); }
+  friend FloatScalar operator*(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x * y; }); }
+  // minps/maxps return the second operand when either is NaN.
+  friend FloatScalar min(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x < y ? x : y; }); }
+  friend FloatScalar max(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x > y ? x : y; }); }
+  // Bit i set when the comparison holds in lane i (false for NaN, like the ordered SSE compares).
+  friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
+  friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }
+  friend int equalMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x == y; }); }
+};
+
+using Float4Scalar = FloatScalar<4>;
+using Float8Scalar = FloatScalar<8>;
+
+}  // namespace obvh::simd

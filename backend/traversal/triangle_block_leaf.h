@@ -1,0 +1,118 @@
+// Testing a leaf stored as TriangleBlock4 groups: the watertight edge functions of four triangles in
+// one SIMD pass, then the scalar second half (triangle_leaf.h) for the few lanes that pass, in lane
+// order. Lane order and the shared second half make the answers bit-identical to testing the
+// triangles one by one (the scalar FloatScalar<4> instantiation is the reference).
+#pragma once
+
+#include <cstdint>
+
+#include "bvh/triangle_block.h"
+#include "traversal/triangle_leaf.h"
+
+namespace obvh {
+
+// Lanes whose edge functions pass the sign test (resolve them with U, V, W) and lanes where an
+// edge function rounded to zero (test those again with the scalar test's double-precision fallback).
+struct BlockCandidates {
+  int resolve = 0;
+  int recheck = 0;
+  alignas(16) float U[4], V[4], W[4];
+};
+
+template <typename F4>
+inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, const WatertightRay& wr) {
+  const F4 ox = F4::broadcast(wr.org[wr.kx]), oy = F4::broadcast(wr.org[wr.ky]), oz = F4::broadcast(wr.org[wr.kz]);
+  const F4 sx = F4::broadcast(wr.Sx), sy = F4::broadcast(wr.Sy);
+  F4 x[3], y[3];
+  for (int vertex = 0; vertex < 3; ++vertex) {
+    // Same operations and order as the scalar test: (v - org) per axis, then the shear.
+    const F4 dx = F4::load(block.v[vertex][wr.kx]) - ox;
+    const F4 dy = F4::load(block.v[vertex][wr.ky]) - oy;
+    const F4 dz = F4::load(block.v[vertex][wr.kz]) - oz;
+    x[vertex] = dx - sx * dz;
+    y[vertex] = dy - sy * dz;
+  }
+  const F4 U = x[2] * y[1] - y[2] * x[1];
+  const F4 V = x[0] * y[2] - y[0] * x[2];
+  const F4 W = x[1] * y[0] - y[1] * x[0];
+  const F4 zero = F4::broadcast(0.f);
+  const int anyZero = equalMask(U, zero) | equalMask(V, zero) | equalMask(W, zero);
+  const int anyNegative = lessMask(U, zero) | lessMask(V, zero) | lessMask(W, zero);
+  const int anyPositive = lessMask(zero, U) | lessMask(zero, V) | lessMask(zero, W);
+  const int used = block.usedLanes();
+  BlockCandidates c;
+  c.recheck = anyZero & used;
+  c.resolve = ~(anyNegative & anyPositive) & ~anyZero & used;
+  if (c.resolve) {
+    U.store(c.U);
+    V.store(c.V);
+    W.store(c.W);
+  }
+  return c;
+}
+
+// Visits each candidate lane of the block in lane order with its triangle test result; visit
+// returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
+template <typename F4, typename Visit>
+inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
+                           const Ray& ray, Visit&& visit) {
+  if (set.fast) {
+    for (int lane = 0; lane < 4; ++lane) {
+      if (block.geomID[lane] == TriangleBlock4::kUnusedLane) continue;
+      if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
+      const StoredTriangle tri = block.triangle(lane);
+      TriangleHit th;
+      if (intersectMoeller(ray, tri.v0, tri.v1, tri.v2, th) && visit(tri, th)) return true;
+    }
+    return false;
+  }
+  const BlockCandidates c = watertightBlockCandidates<F4>(block, wr);
+  int lanes = c.resolve | c.recheck;
+  while (lanes) {
+    const int lane = __builtin_ctz(unsigned(lanes));
+    lanes &= lanes - 1;
+    if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
+    const StoredTriangle tri = block.triangle(lane);
+    TriangleHit th;
+    const bool hit = (c.recheck >> lane) & 1
+                         ? intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)
+                         : resolveWatertightHit(wr, ray, tri.v0, tri.v1, tri.v2, c.U[lane], c.V[lane], c.W[lane], th);
+    if (hit && visit(tri, th)) return true;
+  }
+  return false;
+}
+
+// Closest-hit test of blockCount blocks from firstBlock; shrinks ray.tfar on accepted hits.
+template <typename F4>
+inline bool intersectBlocksClosest(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
+                                   uint32_t blockCount, const WatertightRay& wr, Ray& ray, Hit& hit,
+                                   const QueryState& state) {
+  bool found = false;
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
+    visitBlockHits<F4>(set, blocks[b], wr, ray, [&](const StoredTriangle& tri, const TriangleHit& th) {
+      const Hit candidate = makeTriangleHit(tri, th, state.instID);
+      if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
+          !state.callbacks->acceptHit(set.owner, ray, candidate, th.t, false))
+        return false;
+      ray.tfar = th.t;
+      hit = candidate;
+      found = true;
+      return false;
+    });
+  return found;
+}
+
+// True when any triangle of the blocks blocks the ray (and the filters accept it).
+template <typename F4>
+inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
+                               uint32_t blockCount, const WatertightRay& wr, const Ray& ray, const QueryState& state) {
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
+    if (visitBlockHits<F4>(set, blocks[b], wr, ray, [&](const StoredTriangle& tri, const TriangleHit& th) {
+          return !needsFilter(set.occlusionFiltered, tri.geomID, state) ||
+                 state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(tri, th, state.instID), th.t, true);
+        }))
+      return true;
+  return false;
+}
+
+}  // namespace obvh

@@ -1,0 +1,26 @@
+// The scalar reference instantiations of the wide kernels.
+#include "simd/float_scalar.h"
+#include "traversal/wide_traverse.h"
+
+namespace obvh {
+
+using simd::Float4Scalar;
+using simd::Float8Scalar;
+
+bool intersectClosestBvh4Scalar(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
+  return intersectClosestWideImpl<Float4Scalar, Float4Scalar>(bvh, ray, hit, state);
+}
+
+bool intersectAnyBvh4Scalar(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state) {
+  return intersectAnyWideImpl<Float4Scalar, Float4Scalar>(bvh, ray, state);
+}
+
+bool intersectClosestBvh8Scalar(const TriangleWideView<8>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
+  return intersectClosestWideImpl<Float8Scalar, Float4Scalar>(bvh, ray, hit, state);
+}
+
+bool intersectAnyBvh8Scalar(const TriangleWideView<8>& bvh, const Ray& ray, const QueryState& state) {
+  return intersectAnyWideImpl<Float8Scalar, Float4Scalar>(bvh, ray, state);
+}
+
+}  // namespace obvh

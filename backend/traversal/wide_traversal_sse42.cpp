@@ -1,0 +1,15 @@
+// The SSE instantiation of the four-wide kernels (compiled with -msse4.2).
+#include "simd/float4_sse.h"
+#include "traversal/wide_traverse.h"
+
+namespace obvh {
+
+bool intersectClosestBvh4Sse42(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
+  return intersectClosestWideImpl<simd::Float4Sse, simd::Float4Sse>(bvh, ray, hit, state);
+}
+
+bool intersectAnyBvh4Sse42(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state) {
+  return intersectAnyWideImpl<simd::Float4Sse, simd::Float4Sse>(bvh, ray, state);
+}
+
+}  // namespace obvh

@@ -1,0 +1,160 @@
+// Generic wide-BVH traversal, templated on the node vector type (width 4 or 8) and the four-lane
+// type of the triangle-block test. Included only by the per-ISA translation units.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "traversal/box_test.h"
+#include "traversal/triangle_block_leaf.h"
+#include "traversal/wide_traversal.h"
+
+namespace obvh {
+
+template <typename FN>
+struct WideRayFrame {
+  FN org[3], invDir[3];
+  int nearRow[3], farRow[3];  // rows of WideNode::bounds holding each axis' entry and exit planes
+  bool anyZero = false;       // some axis along which the ray does not move (or 1/dir overflows)
+  bool zero[3];
+
+  explicit WideRayFrame(const Ray& ray) {
+    for (int axis = 0; axis < 3; ++axis) {
+      zero[axis] = ray.dir[axis] == 0.f;
+      const float inv = zero[axis] ? 0.f : 1.f / ray.dir[axis];
+      // Denormal directions overflow 1/dir; the min/max form keeps their NaN rules.
+      anyZero |= zero[axis] || !std::isfinite(inv);
+      org[axis] = FN::broadcast(ray.org[axis]);
+      invDir[axis] = FN::broadcast(inv);
+      // Positive direction: the lower plane is entered first. The slab distances are then the
+      // same values the min/max form picks, without computing both.
+      nearRow[axis] = axis * 2 + (ray.dir[axis] < 0.f ? 1 : 0);
+      farRow[axis] = axis * 2 + (ray.dir[axis] < 0.f ? 0 : 1);
+    }
+  }
+};
+
+// Tests the node's child boxes; returns a bit mask of the entered ones and their entry distances.
+// A ray that does not move along an axis is inside that slab exactly when its origin lies within
+// [lower, upper] (inclusive), as in the scalar box test; the conservative far scaling is Ize's.
+template <typename FN, int N>
+inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tnear, float tfar,
+                             float entry[N]) {
+  FN nearT = FN::broadcast(tnear);
+  FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
+  int inside = (1 << N) - 1;
+  if (!r.anyZero) {
+    for (int axis = 0; axis < 3; ++axis) {
+      // Operand order: a NaN (NaN ray or unused lane) lands in nearT/farT and fails the final compare.
+      nearT = max(nearT, (FN::load(node.bounds[r.nearRow[axis]]) - r.org[axis]) * r.invDir[axis]);
+      farT = min(farT, (FN::load(node.bounds[r.farRow[axis]]) - r.org[axis]) * r.invDir[axis]);
+    }
+  } else {
+    for (int axis = 0; axis < 3; ++axis) {
+      const FN lower = FN::load(node.bounds[axis * 2]);
+      const FN upper = FN::load(node.bounds[axis * 2 + 1]);
+      if (r.zero[axis]) {
+        inside &= lessEqualMask(lower, r.org[axis]) & lessEqualMask(r.org[axis], upper);
+        continue;
+      }
+      const FN t0 = (lower - r.org[axis]) * r.invDir[axis];
+      const FN t1 = (upper - r.org[axis]) * r.invDir[axis];
+      nearT = max(nearT, min(t0, t1));
+      farT = min(farT, max(t0, t1));
+    }
+  }
+  farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
+  nearT.store(entry);
+  return lessEqualMask(nearT, farT) & inside;
+}
+
+// Children are visited one after the other; loading the next ones' first cache lines early
+// hides part of the memory latency that dominates incoherent rays.
+template <int N>
+inline void prefetchChild(const TriangleWideView<N>& bvh, uint32_t child) {
+  const char* p = WideNode<N>::isLeaf(child)
+                      ? reinterpret_cast<const char*>(bvh.blocks + WideNode<N>::leafFirstBlock(child))
+                      : reinterpret_cast<const char*>(bvh.nodes + child);
+  __builtin_prefetch(p);
+  __builtin_prefetch(p + 64);
+}
+
+// Visits leaves near to far; leafVisitor(firstBlock, blockCount) returns true to stop.
+template <typename FN, typename LeafVisitor>
+void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor) {
+  constexpr int N = FN::kWidth;
+  using Node = WideNode<N>;
+  if (bvh.empty()) return;
+  if (Node::isLeaf(bvh.root)) {
+    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
+    return;
+  }
+  const WideRayFrame<FN> frame(ray);
+  struct Entry {
+    uint32_t child;
+    float t;
+  };
+  Entry stack[(N - 1) * 128];
+  int top = 0;
+  stack[top++] = {bvh.root, ray.tnear};
+  alignas(32) float entry[N];
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.t > ray.tfar) continue;
+    uint32_t current = e.child;
+    for (;;) {
+      if (Node::isLeaf(current)) {
+        if (leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current))) return;
+        break;
+      }
+      const Node& node = bvh.nodes[current];
+      int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry);
+      if (mask == 0) break;
+      if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
+        current = node.child[__builtin_ctz(unsigned(mask))];
+        continue;
+      }
+      // Gather the entered children sorted by entry distance (insertion sort: few entries).
+      Entry hits[N];
+      int n = 0;
+      while (mask) {
+        const int lane = __builtin_ctz(unsigned(mask));
+        mask &= mask - 1;
+        Entry h{node.child[lane], entry[lane]};
+        prefetchChild<N>(bvh, h.child);
+        int k = n++;
+        while (k > 0 && hits[k - 1].t > h.t) {
+          hits[k] = hits[k - 1];
+          --k;
+        }
+        hits[k] = h;
+      }
+      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
+      current = hits[0].child;
+    }
+  }
+}
+
+template <typename FN, typename F4>
+bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
+  const WatertightRay wr(ray);
+  bool found = false;
+  traverseWide<FN>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+    found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
+    return false;
+  });
+  return found;
+}
+
+template <typename FN, typename F4>
+bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
+  const WatertightRay wr(ray);
+  bool found = false;
+  traverseWide<FN>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+    found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
+    return found;
+  });
+  return found;
+}
+
+}  // namespace obvh

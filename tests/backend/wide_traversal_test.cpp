@@ -1,0 +1,213 @@
+// The wide layouts (bvh4, bvh8): structural checks of the collapse and the triangle blocks, and
+// the SIMD kernels against the scalar reference kernels and against the binary BVH, ray by ray
+// (bit-identical answers expected).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "builders/binned_sah_builder.h"
+#include "bvh/wide_bvh.h"
+#include "scene/primitive_collection.h"
+#include "simd/cpu_features.h"
+#include "test_scenes.h"
+#include "traversal/bvh2_traversal.h"
+#include "traversal/wide_traversal.h"
+
+namespace obvh {
+namespace {
+
+template <int N>
+struct Layouts {
+  CollectedPrimitives collected;
+  BinaryBvh binary;
+  WideBvh<N> wide;
+  std::vector<StoredTriangle> triangles;
+  std::vector<uint32_t> masks{0xFFFFFFFFu};
+  TriangleBvhView view2;
+  TriangleWideView<N> view;
+
+  Layouts(const test::MeshData& mesh, int maxLeafSize, bool fast = false) {
+    MeshDesc desc;
+    desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
+    desc.vertexStride = 12;
+    desc.vertexCount = mesh.vertexCount();
+    desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
+    desc.indexStride = mesh.quads ? 16 : 12;
+    desc.primCount = mesh.primitiveCount();
+    desc.quads = mesh.quads;
+    collected = collectPrimitives({desc});
+    BuildOptions options;
+    options.maxLeafSize = maxLeafSize;
+    binary = buildBinnedSah(collected.refs, options);
+    for (uint32_t index : binary.primIndices) triangles.push_back(collected.triangles[index]);
+    wide = collapseToWide<N>(binary, triangles.data());
+    const TriangleSet set{triangles.data(), masks.data(), nullptr, nullptr, nullptr, fast};
+    view2 = {binary.nodes.data(), set};
+    view = makeWideView(wide, set);
+  }
+};
+
+// Counts the triangles the leaves reference and checks each block lane against its triangle.
+template <int N>
+void checkLeaves(const Layouts<N>& l, uint32_t child, std::vector<int>& seen) {
+  using Node = WideNode<N>;
+  if (child == Node::kEmptyChild) return;
+  if (Node::isLeaf(child)) {
+    for (uint32_t b = Node::leafFirstBlock(child); b < Node::leafFirstBlock(child) + Node::leafBlockCount(child); ++b)
+      for (int lane = 0; lane < 4; ++lane) {
+        const TriangleBlock4& block = l.wide.blocks[b];
+        if (block.geomID[lane] == TriangleBlock4::kUnusedLane) continue;
+        // Soup triangles are one geometry, primID indexes the collected triangles.
+        const StoredTriangle tri = block.triangle(lane);
+        seen[tri.primID]++;
+        const StoredTriangle& expected = l.collected.triangles[tri.primID];
+        EXPECT_EQ(tri.v0.x, expected.v0.x);
+        EXPECT_EQ(tri.v1.y, expected.v1.y);
+        EXPECT_EQ(tri.v2.z, expected.v2.z);
+      }
+    return;
+  }
+  for (uint32_t c : l.wide.nodes[child].child) checkLeaves(l, c, seen);
+}
+
+template <int N>
+void expectCollapseKeepsEveryTriangleOnce(int maxLeafSize) {
+  Layouts<N> l(test::randomTriangleSoup(20000, 1), maxLeafSize);
+  std::vector<int> seen(l.triangles.size(), 0);
+  checkLeaves(l, l.wide.rootChild, seen);
+  for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "triangle " << i;
+  size_t used = 0;
+  for (const WideNode<N>& node : l.wide.nodes)
+    for (uint32_t c : node.child) used += c != WideNode<N>::kEmptyChild;
+  // Slots stay empty only where a binary child was already a leaf.
+  EXPECT_GT(double(used) / double(N * l.wide.nodes.size()), N == 4 ? 0.75 : 0.5);
+  EXPECT_LT(l.wide.nodes.size(), l.binary.nodes.size() / (N / 2));
+}
+
+TEST(WideBvh, CollapseKeepsEveryTriangleOnceAndFillsNodes) {
+  expectCollapseKeepsEveryTriangleOnce<4>(4);
+  expectCollapseKeepsEveryTriangleOnce<4>(7);  // leaves of two blocks, the second one padded
+  expectCollapseKeepsEveryTriangleOnce<8>(4);
+  expectCollapseKeepsEveryTriangleOnce<8>(13);
+}
+
+std::vector<Ray> testRays(uint32_t seed, size_t count) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(-0.5f, 1.5f);
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < count; ++i) {
+    Ray ray;
+    ray.org = {unit(rng), unit(rng), unit(rng)};
+    ray.dir = Vec3f{unit(rng), unit(rng), unit(rng)} - ray.org;
+    if (i % 7 == 0) ray.dir[int(i % 3)] = 0.f;                   // a zero component
+    if (i % 11 == 0) ray.dir = {0.f, 0.f, i % 2 ? 1.f : -1.f};  // axis-parallel
+    if (i % 13 == 0) ray.tnear = 0.3f;
+    ray.tfar = i % 17 == 0 ? 0.8f : std::numeric_limits<float>::infinity();
+    rays.push_back(ray);
+  }
+  return rays;
+}
+
+// The binary tree's answer (scalar triangle test per triangle) is the reference for every kernel.
+template <int N>
+void expectKernelsMatchBinaryTree(const test::MeshData& mesh, int maxLeafSize, bool fast, uint32_t seed,
+                                  size_t minHits) {
+  Layouts<N> l(mesh, maxLeafSize, fast);
+  const QueryState state;
+  std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
+  if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
+  size_t hits = 0;
+  for (const Ray& ray : testRays(seed, 20000)) {
+    Ray r2 = ray;
+    Hit h2;
+    const bool f2 = intersectClosest(l.view2, r2, h2, state);
+    hits += f2;
+    const bool any2 = intersectAny(l.view2, ray, state);
+    for (KernelIsa isa : kernels) {
+      Ray r = ray;
+      Hit h;
+      ASSERT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " isa " << int(isa);
+      EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2);
+      if (!f2) continue;
+      EXPECT_EQ(r.tfar, r2.tfar);
+      EXPECT_EQ(h.primID, h2.primID);
+      EXPECT_EQ(h.u, h2.u);
+      EXPECT_EQ(h.v, h2.v);
+      EXPECT_EQ(h.Ng.x, h2.Ng.x);
+    }
+  }
+  EXPECT_GT(hits, minHits);
+}
+
+TEST(WideBvh, KernelsMatchTheBinaryTreeOnATriangleSoup) {
+  if (bestKernelIsa(4) == KernelIsa::Scalar) std::printf("no SSE4.2 here: only the scalar bvh4 kernel is compared\n");
+  if (bestKernelIsa(8) == KernelIsa::Scalar) std::printf("no AVX2 here: only the scalar bvh8 kernel is compared\n");
+  const test::MeshData soup = test::randomTriangleSoup(5000, 2);
+  expectKernelsMatchBinaryTree<4>(soup, 6, false, 3, 3000);
+  expectKernelsMatchBinaryTree<8>(soup, 6, false, 3, 3000);
+  expectKernelsMatchBinaryTree<8>(soup, 3, true, 4, 3000);
+}
+
+TEST(WideBvh, KernelsMatchTheBinaryTreeOnSharedEdges) {
+  // A jittered quad grid: rays through shared edges and vertices take the zero-edge-function path.
+  const test::MeshData grid = test::quadGrid(40, 0.3f, 4);
+  expectKernelsMatchBinaryTree<4>(grid, 4, false, 5, 1000);
+  expectKernelsMatchBinaryTree<8>(grid, 4, false, 5, 1000);
+}
+
+// Denormal direction components overflow 1/dir; the binary tree's box test rounds those slabs
+// differently, so here the SIMD kernels are compared with their scalar reference only.
+template <int N>
+void expectSimdMatchesScalarOnDenormalDirections() {
+  if (bestKernelIsa(N) == KernelIsa::Scalar) return;
+  Layouts<N> l(test::randomTriangleSoup(3000, 7), 4);
+  const QueryState state;
+  size_t hits = 0;
+  std::vector<Ray> rays = testRays(8, 6000);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Ray ray = rays[i];
+    ray.dir[int(i % 3)] = i % 2 ? 1e-40f : -1e-40f;
+    Ray rs = ray, rv = ray;
+    Hit hs, hv;
+    const bool fs = intersectClosestWide(l.view, rs, hs, state, KernelIsa::Scalar);
+    ASSERT_EQ(intersectClosestWide(l.view, rv, hv, state, KernelIsa::Simd), fs);
+    hits += fs;
+    if (fs) {
+      EXPECT_EQ(rs.tfar, rv.tfar);
+      EXPECT_EQ(hs.primID, hv.primID);
+    }
+    EXPECT_EQ(intersectAnyWide(l.view, ray, state, KernelIsa::Scalar), intersectAnyWide(l.view, ray, state, KernelIsa::Simd));
+  }
+  EXPECT_GT(hits, 100u);
+}
+
+TEST(WideBvh, SimdMatchesScalarOnDenormalDirections) {
+  expectSimdMatchesScalarOnDenormalDirections<4>();
+  expectSimdMatchesScalarOnDenormalDirections<8>();
+}
+
+template <int N>
+void expectNanRaysHitNothing() {
+  Layouts<N> l(test::randomTriangleSoup(500, 6), 4);
+  const QueryState state;
+  Ray ray;
+  ray.org = {std::nanf(""), 0.5f, 0.5f};
+  ray.dir = {1.f, 0.f, 0.f};
+  ray.tfar = std::numeric_limits<float>::infinity();
+  Hit hit;
+  for (KernelIsa isa : {KernelIsa::Scalar, bestKernelIsa(N)}) {
+    Ray r = ray;
+    EXPECT_FALSE(intersectClosestWide(l.view, r, hit, state, isa));
+    EXPECT_FALSE(intersectAnyWide(l.view, ray, state, isa));
+  }
+}
+
+TEST(WideBvh, NanRaysHitNothing) {
+  expectNanRaysHitNothing<4>();
+  expectNanRaysHitNothing<8>();
+}
+
+}  // namespace
+}  // namespace obvh
