@@ -72,15 +72,17 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
 // hides part of the memory latency that dominates incoherent rays.
 template <int N>
 inline void prefetchChild(const TriangleWideView<N>& bvh, uint32_t child) {
-  const char* p = WideNode<N>::isLeaf(child)
-                      ? reinterpret_cast<const char*>(bvh.blocks + WideNode<N>::leafFirstBlock(child))
-                      : reinterpret_cast<const char*>(bvh.nodes + child);
-  __builtin_prefetch(p);
-  __builtin_prefetch(p + 64);
+  using Node = WideNode<N>;
+  const bool leaf = Node::isLeaf(child);
+  const char* p = leaf ? reinterpret_cast<const char*>(bvh.blocks + Node::leafFirstBlock(child))
+                       : reinterpret_cast<const char*>(bvh.nodes + child);
+  const size_t bytes = leaf ? sizeof(TriangleBlock4) : sizeof(Node);
+  for (size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
 }
 
-// Visits leaves near to far; leafVisitor(firstBlock, blockCount) returns true to stop.
-template <typename FN, typename LeafVisitor>
+// Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
+// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop.
+template <typename FN, bool kNearToFar, typename LeafVisitor>
 void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor) {
   constexpr int N = FN::kWidth;
   using Node = WideNode<N>;
@@ -114,6 +116,17 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
         current = node.child[__builtin_ctz(unsigned(mask))];
         continue;
       }
+      if (!kNearToFar) {
+        current = node.child[__builtin_ctz(unsigned(mask))];
+        mask &= mask - 1;
+        while (mask) {
+          const int lane = __builtin_ctz(unsigned(mask));
+          mask &= mask - 1;
+          prefetchChild<N>(bvh, node.child[lane]);
+          stack[top++] = {node.child[lane], entry[lane]};
+        }
+        continue;
+      }
       // Gather the entered children sorted by entry distance (insertion sort: few entries).
       Entry hits[N];
       int n = 0;
@@ -139,7 +152,7 @@ template <typename FN, typename F4>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
   const WatertightRay wr(ray);
   bool found = false;
-  traverseWide<FN>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, true>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
   });
@@ -150,7 +163,7 @@ template <typename FN, typename F4>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
   const WatertightRay wr(ray);
   bool found = false;
-  traverseWide<FN>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, false>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
     return found;
   });
