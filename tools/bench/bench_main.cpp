@@ -76,6 +76,20 @@ Options parseOptions(int argc, char** argv) {
   return o;
 }
 
+// One row of the table: a ray set traced through one query API.
+enum class Query { Intersect1, Intersect8, Occluded1, Occluded8 };
+struct Workload {
+  const char* name;
+  Query query;
+  const std::vector<RTCRay>* rays;
+};
+
+struct Result {
+  double mrays = 0;
+  std::vector<RTCRayHit> hits;  // intersect queries
+  std::vector<RTCRay> rays;     // occlusion queries (tfar = -inf: occluded)
+};
+
 struct LibraryRun {
   const RtcLibrary* lib = nullptr;
   const char* config = nullptr;  // rtcNewDevice config
@@ -83,10 +97,20 @@ struct LibraryRun {
   RTCDevice device = nullptr;
   std::unique_ptr<CommittedScene> scene;
   double buildMs = 0;
-  double primaryMrays = 0, randomMrays = 0, shadowMrays = 0;
-  std::vector<RTCRayHit> primary, random;
-  std::vector<RTCRay> shadow;
+  std::vector<Result> results;  // one per workload, in table order
 };
+
+Result trace(const LibraryRun& run, const Workload& w, int runs) {
+  Result r;
+  RTCScene scene = run.scene->scene();
+  switch (w.query) {
+    case Query::Intersect1: r.mrays = traceIntersectMrays(*run.lib, scene, *w.rays, runs, &r.hits); break;
+    case Query::Intersect8: r.mrays = traceIntersect8Mrays(*run.lib, scene, *w.rays, runs, &r.hits); break;
+    case Query::Occluded1: r.mrays = traceOccludedMrays(*run.lib, scene, *w.rays, runs, &r.rays); break;
+    case Query::Occluded8: r.mrays = traceOccluded8Mrays(*run.lib, scene, *w.rays, runs, &r.rays); break;
+  }
+  return r;
+}
 
 struct MismatchCount {
   size_t rays = 0, differing = 0, ambiguous = 0, mismatched = 0;
@@ -144,11 +168,11 @@ std::vector<float> shade(const std::vector<RTCRayHit>& hits, const std::vector<R
 void printRow(const char* name, double embree, double obvh, double fast, bool lowerIsBetter) {
   const double speed = lowerIsBetter ? embree / obvh : obvh / embree;
   const double fastSpeed = lowerIsBetter ? embree / fast : fast / embree;
-  std::printf("  %-28s %10.2f %10.2f %9.2fx %10.2f %9.2fx\n", name, embree, obvh, speed, fast, fastSpeed);
+  std::printf("  %-42s %10.2f %10.2f %9.2fx %10.2f %9.2fx\n", name, embree, obvh, speed, fast, fastSpeed);
 }
 
 void printCount(const char* name, const MismatchCount& c) {
-  std::printf("  %-18s %9zu rays: %zu differ, %zu ambiguous (proved in double precision), %zu mismatches\n", name,
+  std::printf("  %-42s %9zu rays: %zu differ, %zu ambiguous (proved in double precision), %zu mismatches\n", name,
               c.rays, c.differing, c.ambiguous, c.mismatched);
   if (!c.firstMismatch.empty()) std::printf("    first mismatch: %s\n", c.firstMismatch.c_str());
 }
@@ -188,49 +212,67 @@ int main(int argc, char** argv) {
     RTCBounds bounds;
     runs[0].lib->rtcGetSceneBounds(runs[0].scene->scene(), &bounds);
     const SceneBox box{{bounds.lower_x, bounds.lower_y, bounds.lower_z}, {bounds.upper_x, bounds.upper_y, bounds.upper_z}};
-    const std::vector<RTCRay> primaryRays = perspectiveRays(box, options.width, options.height);
+    const std::vector<RTCRay> perspective = perspectiveRays(box, options.width, options.height);
+    const std::vector<RTCRay> orthographic = orthographicRays(box, options.width, options.height);
     const std::vector<RTCRay> random = randomRays(box, options.randomRays, 12345u);
-    for (LibraryRun& run : runs) {
-      run.primaryMrays = traceIntersectMrays(*run.lib, run.scene->scene(), primaryRays, options.runs, &run.primary);
-      run.randomMrays = traceIntersectMrays(*run.lib, run.scene->scene(), random, options.runs, &run.random);
-    }
-    // Shadow rays start from Embree's primary hits so both libraries answer the very same rays.
-    std::vector<float> hitT(primaryRays.size());
+    std::vector<Workload> workloads = {{"primary perspective", Query::Intersect1, &perspective},
+                                       {"primary perspective, packets of 8", Query::Intersect8, &perspective},
+                                       {"primary orthographic", Query::Intersect1, &orthographic},
+                                       {"random (incoherent)", Query::Intersect1, &random}};
+    for (LibraryRun& run : runs)
+      for (const Workload& w : workloads) run.results.push_back(trace(run, w, options.runs));
+    // Secondary rays start from Embree's primary hits so both libraries answer the very same rays.
+    const std::vector<RTCRayHit>& embreePrimary = runs[0].results[0].hits;
+    std::vector<float> hitT(perspective.size());
     for (size_t i = 0; i < hitT.size(); ++i)
-      hitT[i] = runs[0].primary[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? runs[0].primary[i].ray.tfar
-                                                                          : std::numeric_limits<float>::infinity();
+      hitT[i] = embreePrimary[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? embreePrimary[i].ray.tfar
+                                                                       : std::numeric_limits<float>::infinity();
     const float extent = std::max({box.upper[0] - box.lower[0], box.upper[1] - box.lower[1], box.upper[2] - box.lower[2]});
     const float light[3] = {box.upper[0] + extent, box.upper[1] + 2.f * extent, box.upper[2] + extent};
-    const std::vector<RTCRay> shadow = shadowRays(primaryRays, hitT, light);
-    for (LibraryRun& run : runs) run.shadowMrays = traceOccludedMrays(*run.lib, run.scene->scene(), shadow, options.runs, &run.shadow);
+    const std::vector<RTCRay> shadow = shadowRays(perspective, hitT, light);
+    const std::vector<RTCRay> diffuse = diffuseBounceRays(embreePrimary, 777u);
+    const size_t firstSecondary = workloads.size();
+    workloads.push_back({"diffuse bounce", Query::Intersect1, &diffuse});
+    workloads.push_back({"shadow", Query::Occluded1, &shadow});
+    workloads.push_back({"shadow, packets of 8", Query::Occluded8, &shadow});
+    for (LibraryRun& run : runs)
+      for (size_t k = firstSecondary; k < workloads.size(); ++k) run.results.push_back(trace(run, workloads[k], options.runs));
+    const size_t shadowRow = firstSecondary + 1;
 
-    std::printf("obvh_bench: %s, %zu primitives, %dx%d pixels, median of %d runs, %d hardware threads\n",
-                scene.name.c_str(), scene.primitiveCount(), options.width, options.height, options.runs,
-                int(std::thread::hardware_concurrency()));
-    std::printf("  %-28s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
+    std::printf("obvh_bench: %s, %zu primitives, %dx%d pixels, %zu random rays, %zu diffuse bounces, median of %d runs, "
+                "%d hardware threads\n",
+                scene.name.c_str(), scene.primitiveCount(), options.width, options.height, random.size(), diffuse.size(),
+                options.runs, int(std::thread::hardware_concurrency()));
+    std::printf("  %-42s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
     printRow("build ms", runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
-    printRow("primary Mrays/s", runs[0].primaryMrays, runs[1].primaryMrays, runs[2].primaryMrays, false);
-    printRow("random (incoherent) Mrays/s", runs[0].randomMrays, runs[1].randomMrays, runs[2].randomMrays, false);
-    printRow("shadow Mrays/s", runs[0].shadowMrays, runs[1].shadowMrays, runs[2].shadowMrays, false);
+    for (size_t k = 0; k < workloads.size(); ++k)
+      printRow((std::string(workloads[k].name) + " Mrays/s").c_str(), runs[0].results[k].mrays,
+               runs[1].results[k].mrays, runs[2].results[k].mrays, false);
 
     bool clean = true;
-    for (int k = 1; k < 3; ++k) {
-      const MismatchCount primaryCount = compareIntersections(scene, primaryRays, runs[0].primary, runs[k].primary);
-      const MismatchCount randomCount = compareIntersections(scene, random, runs[0].random, runs[k].random);
-      const MismatchCount shadowCount = compareOcclusions(runs[0].shadow, runs[k].shadow);
-      std::printf("answers (embree vs %s):\n", runs[k].name);
-      printCount("primary", primaryCount);
-      printCount("random", randomCount);
-      std::printf("  %-18s %9zu rays: %zu occlusion answers differ\n", "shadow", shadowCount.rays, shadowCount.differing);
+    for (int r = 1; r < 3; ++r) {
+      std::printf("answers (embree vs %s):\n", runs[r].name);
+      bool modeClean = true;
+      for (size_t k = 0; k < workloads.size(); ++k) {
+        const Workload& w = workloads[k];
+        if (w.query == Query::Occluded1 || w.query == Query::Occluded8) {
+          const MismatchCount c = compareOcclusions(runs[0].results[k].rays, runs[r].results[k].rays);
+          std::printf("  %-42s %9zu rays: %zu occlusion answers differ\n", w.name, c.rays, c.differing);
+          continue;
+        }
+        const MismatchCount c = compareIntersections(scene, *w.rays, runs[0].results[k].hits, runs[r].results[k].hits);
+        printCount(w.name, c);
+        modeClean &= c.mismatched == 0;
+      }
       // The fast intersector is not watertight by design (see the accuracy report): only obvh's
       // default mode must agree with Embree wherever the answer is not ambiguous.
-      if (runs[k].config == nullptr) clean &= primaryCount.mismatched == 0 && randomCount.mismatched == 0;
+      if (runs[r].config == nullptr) clean &= modeClean;
     }
 
     std::filesystem::create_directories(options.outDir);
     const std::string stem = options.outDir + "/" + scene.name.substr(0, scene.name.find_last_of('.'));
-    writeImage(stem + "_embree.png", options.width, options.height, shade(runs[0].primary, runs[0].shadow));
-    writeImage(stem + "_obvh.png", options.width, options.height, shade(runs[1].primary, runs[1].shadow));
+    writeImage(stem + "_embree.png", options.width, options.height, shade(runs[0].results[0].hits, runs[0].results[shadowRow].rays));
+    writeImage(stem + "_obvh.png", options.width, options.height, shade(runs[1].results[0].hits, runs[1].results[shadowRow].rays));
     std::printf("images: %s_embree.png %s_obvh.png\n", stem.c_str(), stem.c_str());
 
     for (LibraryRun& run : runs) {

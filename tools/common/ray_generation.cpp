@@ -5,6 +5,8 @@
 #include <limits>
 #include <random>
 
+#include "offset_ray.h"
+
 namespace obvh::tools {
 namespace {
 
@@ -128,6 +130,35 @@ std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::ve
     s.dir_z = light[2] - s.org_z;
     s.tnear = 1e-3f;
     s.tfar = 1.f;
+  }
+  return rays;
+}
+
+std::vector<RTCRay> diffuseBounceRays(const std::vector<RTCRayHit>& primaryHits, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  std::vector<RTCRay> rays;
+  for (const RTCRayHit& h : primaryHits) {
+    if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    float n[3] = {h.hit.Ng_x, h.hit.Ng_y, h.hit.Ng_z};
+    if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0.f)) continue;
+    normalize(n);
+    if (n[0] * h.ray.dir_x + n[1] * h.ray.dir_y + n[2] * h.ray.dir_z > 0.f)
+      for (float& c : n) c = -c;
+    const float p[3] = {h.ray.org_x + h.ray.tfar * h.ray.dir_x, h.ray.org_y + h.ray.tfar * h.ray.dir_y,
+                        h.ray.org_z + h.ray.tfar * h.ray.dir_z};
+    float org[3];
+    offsetRayOrigin(p, n, org);
+    // Cosine-weighted hemisphere around n (Malley's method) in an orthonormal frame.
+    const float helper[3] = {std::fabs(n[0]) < 0.9f ? 1.f : 0.f, std::fabs(n[0]) < 0.9f ? 0.f : 1.f, 0.f};
+    float t[3], b[3];
+    crossf(n, helper, t);
+    normalize(t);
+    crossf(n, t, b);
+    const float r = std::sqrt(unit(rng)), phi = 6.2831853f * unit(rng);
+    const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.f, 1.f - r * r));
+    const float dir[3] = {x * t[0] + y * b[0] + z * n[0], x * t[1] + y * b[1] + z * n[1], x * t[2] + y * b[2] + z * n[2]};
+    rays.push_back(makeRay(org, dir));
   }
   return rays;
 }

@@ -26,4 +26,8 @@ std::vector<RTCRay> randomRays(const SceneBox& box, size_t count, uint32_t seed)
 std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::vector<float>& hitT,
                                const float light[3]);
 
+// One cosine-distributed diffuse bounce from each hit of the primary rays (misses spawn nothing),
+// leaving the surface on the side the primary ray came from; seeded.
+std::vector<RTCRay> diffuseBounceRays(const std::vector<RTCRayHit>& primaryHits, uint32_t seed);
+
 }  // namespace obvh::tools

@@ -28,4 +28,10 @@ double traceIntersectMrays(const RtcLibrary& lib, RTCScene scene, const std::vec
 double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                           std::vector<RTCRay>* answers = nullptr);
 
+// The same through eight-ray packets (rtcIntersect8 / rtcOccluded8) of consecutive rays.
+double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                            std::vector<RTCRayHit>* answers = nullptr);
+double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                           std::vector<RTCRay>* answers = nullptr);
+
 }  // namespace obvh::tools
