@@ -1,5 +1,6 @@
 #include "query_dispatch.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace obvh::api {
@@ -83,6 +84,84 @@ bool QueryDispatch::occluded(RTCRay& ray) {
   if (!scene_.accel().occluded(backendRay(ray, masksOn_), state_)) return false;
   ray.tfar = -std::numeric_limits<float>::infinity();
   return true;
+}
+
+namespace {
+
+// Lanes whose valid entry is -1 are active, as in Embree; a null mask activates every lane.
+bool laneActive(const int* valid, unsigned lane) { return valid == nullptr || valid[lane] == -1; }
+
+Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
+  Ray ray;
+  ray.org = {RTCRayN_org_x(rays, N, i), RTCRayN_org_y(rays, N, i), RTCRayN_org_z(rays, N, i)};
+  ray.dir = {RTCRayN_dir_x(rays, N, i), RTCRayN_dir_y(rays, N, i), RTCRayN_dir_z(rays, N, i)};
+  ray.tnear = RTCRayN_tnear(rays, N, i);
+  ray.tfar = RTCRayN_tfar(rays, N, i);
+  ray.mask = masksOn ? RTCRayN_mask(rays, N, i) : 0xFFFFFFFFu;
+  return ray;
+}
+
+// Converts lanes [first, first + count) into rays[0..count); returns the mask of active ones.
+uint32_t gatherLanes(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count, bool masksOn,
+                     Ray* rays) {
+  uint32_t active = 0;
+  for (unsigned k = 0; k < count; ++k)
+    if (laneActive(valid, first + k)) {
+      rays[k] = laneRay(rayN, N, first + k, masksOn);
+      active |= 1u << k;
+    }
+  return active;
+}
+
+}  // namespace
+
+// Filters and user geometry receive the application's ray (id, flags, time) one lane at a time,
+// so scenes with callbacks keep the lane-by-lane path; packets of more lanes than the backend's
+// maximum are traced in chunks.
+void QueryDispatch::intersectPacket(const int* valid, RTCRayHitN* packet, unsigned N) {
+  RTCRayN* rayN = RTCRayHitN_RayN(packet, N);
+  RTCHitN* hitN = RTCRayHitN_HitN(packet, N);
+  if (state_.callbacks) {
+    for (unsigned i = 0; i < N; ++i) {
+      if (!laneActive(valid, i)) continue;
+      RTCRayHit rayhit = rtcGetRayHitFromRayHitN(packet, N, i);
+      if (!intersect(rayhit)) continue;
+      RTCRayN_tfar(rayN, N, i) = rayhit.ray.tfar;
+      rtcCopyHitToHitN(hitN, &rayhit.hit, N, i);
+    }
+    return;
+  }
+  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
+    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
+    Ray rays[kMaxPacketSize];
+    Hit hits[kMaxPacketSize];
+    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays);
+    uint32_t found = scene_.accel().intersectPacket(rays, hits, active, state_);
+    for (; found; found &= found - 1) {
+      const unsigned k = unsigned(__builtin_ctz(found)), i = first + k;
+      RTCRayN_tfar(rayN, N, i) = rays[k].tfar;
+      const RTCHit hit = embreeHit(hits[k]);
+      rtcCopyHitToHitN(hitN, &hit, N, i);
+    }
+  }
+}
+
+void QueryDispatch::occludedPacket(const int* valid, RTCRayN* rayN, unsigned N) {
+  if (state_.callbacks) {
+    for (unsigned i = 0; i < N; ++i) {
+      if (!laneActive(valid, i)) continue;
+      RTCRay ray = rtcGetRayFromRayN(rayN, N, i);
+      if (occluded(ray)) RTCRayN_tfar(rayN, N, i) = ray.tfar;
+    }
+    return;
+  }
+  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
+    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
+    Ray rays[kMaxPacketSize];
+    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays);
+    for (uint32_t blocked = scene_.accel().occludedPacket(rays, active, state_); blocked; blocked &= blocked - 1)
+      RTCRayN_tfar(rayN, N, first + unsigned(__builtin_ctz(blocked))) = -std::numeric_limits<float>::infinity();
+  }
 }
 
 void QueryDispatch::runFilters(const Geometry& geometry, const RTCFilterFunctionNArguments* args,

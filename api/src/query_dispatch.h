@@ -17,6 +17,10 @@ class QueryDispatch final : public QueryCallbacks {
   // Single-ray queries on Embree's structs; true on a hit.
   bool intersect(RTCRayHit& rayhit);
   bool occluded(RTCRay& ray);
+  // Packets (Embree's SOA layout, N lanes, lane i active when valid[i] == -1 or valid is null).
+  // Traced as backend packets when no callback can observe the order of the lanes, else lane by lane.
+  void intersectPacket(const int* valid, RTCRayHitN* packet, unsigned N);
+  void occludedPacket(const int* valid, RTCRayN* packet, unsigned N);
 
   bool acceptHit(const void* owner, const Ray& ray, const Hit& candidate, float t, bool occlusion) override;
   bool intersectUser(const void* owner, uint32_t geomID, uint32_t primID, Ray& ray, Hit& hit,

@@ -1,5 +1,5 @@
 // rtcIntersect* and rtcOccluded*: validate, convert Embree's ray layouts to the backend's and back.
-// Packets and streams run the single-ray kernel per active lane in this slice.
+// Packets and SOA streams go to the backend's packet traversal (QueryDispatch::intersectPacket).
 #include <embree3/rtcore.h>
 
 #include <limits>
@@ -26,27 +26,6 @@ void query(RTCScene handle, RTCIntersectContext* context, const void* rays, Body
   });
 }
 
-// Lanes whose valid entry is -1 are active, as in Embree; a null mask activates every lane.
-bool laneActive(const int* valid, unsigned lane) { return valid == nullptr || valid[lane] == -1; }
-
-void intersectLanes(QueryDispatch& dispatch, const int* valid, RTCRayHitN* packet, unsigned N) {
-  for (unsigned i = 0; i < N; ++i) {
-    if (!laneActive(valid, i)) continue;
-    RTCRayHit rayhit = rtcGetRayHitFromRayHitN(packet, N, i);
-    if (!dispatch.intersect(rayhit)) continue;
-    RTCRayN_tfar(RTCRayHitN_RayN(packet, N), N, i) = rayhit.ray.tfar;
-    rtcCopyHitToHitN(RTCRayHitN_HitN(packet, N), &rayhit.hit, N, i);
-  }
-}
-
-void occludedLanes(QueryDispatch& dispatch, const int* valid, RTCRayN* packet, unsigned N) {
-  for (unsigned i = 0; i < N; ++i) {
-    if (!laneActive(valid, i)) continue;
-    RTCRay ray = rtcGetRayFromRayN(packet, N, i);
-    if (dispatch.occluded(ray)) RTCRayN_tfar(packet, N, i) = ray.tfar;
-  }
-}
-
 }  // namespace
 
 RTC_API void rtcIntersect1(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit) {
@@ -60,37 +39,37 @@ RTC_API void rtcOccluded1(RTCScene scene, RTCIntersectContext* context, RTCRay* 
 // RTCRayHit4/8/16 have exactly the RTCRayHitN layout for N = 4/8/16.
 RTC_API void rtcIntersect4(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit4* rayhit) {
   query(scene, context, rayhit, [&](QueryDispatch& d) {
-    intersectLanes(d, valid, reinterpret_cast<RTCRayHitN*>(rayhit), 4);
+    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 4);
   });
 }
 
 RTC_API void rtcIntersect8(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit8* rayhit) {
   query(scene, context, rayhit, [&](QueryDispatch& d) {
-    intersectLanes(d, valid, reinterpret_cast<RTCRayHitN*>(rayhit), 8);
+    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 8);
   });
 }
 
 RTC_API void rtcIntersect16(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16* rayhit) {
   query(scene, context, rayhit, [&](QueryDispatch& d) {
-    intersectLanes(d, valid, reinterpret_cast<RTCRayHitN*>(rayhit), 16);
+    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 16);
   });
 }
 
 RTC_API void rtcOccluded4(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay4* ray) {
   query(scene, context, ray, [&](QueryDispatch& d) {
-    occludedLanes(d, valid, reinterpret_cast<RTCRayN*>(ray), 4);
+    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 4);
   });
 }
 
 RTC_API void rtcOccluded8(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay8* ray) {
   query(scene, context, ray, [&](QueryDispatch& d) {
-    occludedLanes(d, valid, reinterpret_cast<RTCRayN*>(ray), 8);
+    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 8);
   });
 }
 
 RTC_API void rtcOccluded16(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16* ray) {
   query(scene, context, ray, [&](QueryDispatch& d) {
-    occludedLanes(d, valid, reinterpret_cast<RTCRayN*>(ray), 16);
+    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 16);
   });
 }
 
@@ -114,7 +93,7 @@ RTC_API void rtcIntersectNM(RTCScene scene, RTCIntersectContext* context, RTCRay
   query(scene, context, rayhit, [&](QueryDispatch& d) {
     auto* base = reinterpret_cast<unsigned char*>(rayhit);
     for (unsigned m = 0; m < M; ++m)
-      intersectLanes(d, nullptr, reinterpret_cast<RTCRayHitN*>(base + m * byteStride), N);
+      d.intersectPacket(nullptr, reinterpret_cast<RTCRayHitN*>(base + m * byteStride), N);
   });
 }
 
@@ -161,7 +140,7 @@ RTC_API void rtcOccludedNM(RTCScene scene, RTCIntersectContext* context, RTCRayN
                            unsigned int M, size_t byteStride) {
   query(scene, context, ray, [&](QueryDispatch& d) {
     auto* base = reinterpret_cast<unsigned char*>(ray);
-    for (unsigned m = 0; m < M; ++m) occludedLanes(d, nullptr, reinterpret_cast<RTCRayN*>(base + m * byteStride), N);
+    for (unsigned m = 0; m < M; ++m) d.occludedPacket(nullptr, reinterpret_cast<RTCRayN*>(base + m * byteStride), N);
   });
 }
 

@@ -17,6 +17,7 @@ struct WatertightRay {
   float Sx = 0.f, Sy = 0.f, Sz = 1.f;
   Vec3f org;
 
+  WatertightRay() = default;
   explicit WatertightRay(const Ray& ray) : org(ray.org) {
     const float ax = std::fabs(ray.dir.x), ay = std::fabs(ray.dir.y), az = std::fabs(ray.dir.z);
     kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);

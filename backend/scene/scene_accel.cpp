@@ -194,6 +194,31 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
   return instance.child->occluded(toLocal(instance, ray), inner);
 }
 
+bool SceneAccel::intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const {
+  if (objectBvh_.empty()) return false;
+  bool found = false;
+  traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
+    for (uint32_t i = 0; i < leaf.primCount; ++i)
+      if (intersectObject(objects_[leaf.firstChildOrPrim + i], ray, hit, state)) found = true;
+    return false;
+  });
+  return found;
+}
+
+bool SceneAccel::occludedObjects(const Ray& ray, const QueryState& state) const {
+  if (objectBvh_.empty()) return false;
+  bool found = false;
+  traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
+    for (uint32_t i = 0; i < leaf.primCount; ++i)
+      if (occludedObject(objects_[leaf.firstChildOrPrim + i], ray, state)) {
+        found = true;
+        return true;
+      }
+    return false;
+  });
+  return found;
+}
+
 bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
   bool found = false;
   if (layout_ == AccelLayout::Bvh4)
@@ -204,13 +229,7 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
   else
     found = !triangleOrientedView_.empty() && intersectClosestOriented(triangleOrientedView_, ray, hit, state, counters);
-  if (objectBvh_.empty()) return found;
-  traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
-    for (uint32_t i = 0; i < leaf.primCount; ++i)
-      if (intersectObject(objects_[leaf.firstChildOrPrim + i], ray, hit, state)) found = true;
-    return false;
-  });
-  return found;
+  return intersectObjects(ray, hit, state) || found;
 }
 
 bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters) const {
@@ -223,17 +242,39 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCoun
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
     return true;
   }
-  if (objectBvh_.empty()) return false;
-  bool found = false;
-  traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
-    for (uint32_t i = 0; i < leaf.primCount; ++i)
-      if (occludedObject(objects_[leaf.firstChildOrPrim + i], ray, state)) {
-        found = true;
-        return true;
-      }
-    return false;
-  });
+  return occludedObjects(ray, state);
+}
+
+uint32_t SceneAccel::intersectPacket(Ray* rays, Hit* hits, uint32_t active, const QueryState& state) const {
+  uint32_t found = 0;
+  if (layout_ == AccelLayout::Bvh4 && !triangleView4_.empty()) {
+    found = intersectClosestWidePacket(triangleView4_, rays, hits, active, state);
+  } else if (layout_ == AccelLayout::Bvh8 && !triangleView8_.empty()) {
+    found = intersectClosestWidePacket(triangleView8_, rays, hits, active, state);
+  } else if (layout_ != AccelLayout::Bvh4 && layout_ != AccelLayout::Bvh8) {
+    for (uint32_t m = active; m; m &= m - 1)
+      if (intersect(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], state)) found |= 1u << __builtin_ctz(m);
+    return found;
+  }
+  for (uint32_t m = active; m; m &= m - 1)
+    if (intersectObjects(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], state)) found |= 1u << __builtin_ctz(m);
   return found;
+}
+
+uint32_t SceneAccel::occludedPacket(const Ray* rays, uint32_t active, const QueryState& state) const {
+  uint32_t blocked = 0;
+  if (layout_ == AccelLayout::Bvh4 && !triangleView4_.empty()) {
+    blocked = intersectAnyWidePacket(triangleView4_, rays, active, state);
+  } else if (layout_ == AccelLayout::Bvh8 && !triangleView8_.empty()) {
+    blocked = intersectAnyWidePacket(triangleView8_, rays, active, state);
+  } else if (layout_ != AccelLayout::Bvh4 && layout_ != AccelLayout::Bvh8) {
+    for (uint32_t m = active; m; m &= m - 1)
+      if (occluded(rays[__builtin_ctz(m)], state)) blocked |= 1u << __builtin_ctz(m);
+    return blocked;
+  }
+  for (uint32_t m = active & ~blocked; m; m &= m - 1)
+    if (occludedObjects(rays[__builtin_ctz(m)], state)) blocked |= 1u << __builtin_ctz(m);
+  return blocked;
 }
 
 bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, const PointQueryInstance* instance,

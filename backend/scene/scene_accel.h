@@ -38,6 +38,11 @@ class SceneAccel {
   // binary and oriented layouts (accel=bvh2|obb|hybrid), not for the wide ones.
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
+  // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
+  // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
+  // Return the mask of lanes that hit / are occluded.
+  uint32_t intersectPacket(Ray* rays, Hit* hits, uint32_t active, const QueryState& state) const;
+  uint32_t occludedPacket(const Ray* rays, uint32_t active, const QueryState& state) const;
   // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary tree).
   LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when
@@ -64,6 +69,8 @@ class SceneAccel {
 
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
+  bool intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const;
+  bool occludedObjects(const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);
 
   // Triangles and quads: the binary tree, and its wide or oriented form when that layout is selected.

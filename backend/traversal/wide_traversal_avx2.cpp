@@ -14,4 +14,15 @@ bool intersectAnyBvh8Avx2(const TriangleWideView<8>& bvh, const Ray& ray, const 
   return intersectAnyWideImpl<simd::Float8Avx, simd::Float4Sse>(bvh, ray, state);
 }
 
+
+uint32_t intersectClosestBvh8PacketAvx2(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                                   const QueryState& state) {
+  return intersectClosestWidePacketImpl<simd::Float8Avx, simd::Float4Sse>(bvh, rays, hits, active, state);
+}
+
+uint32_t intersectAnyBvh8PacketAvx2(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
+                               const QueryState& state) {
+  return intersectAnyWidePacketImpl<simd::Float8Avx, simd::Float4Sse>(bvh, rays, active, state);
+}
+
 }  // namespace obvh

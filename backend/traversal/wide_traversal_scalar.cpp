@@ -23,4 +23,25 @@ bool intersectAnyBvh8Scalar(const TriangleWideView<8>& bvh, const Ray& ray, cons
   return intersectAnyWideImpl<Float8Scalar, Float4Scalar>(bvh, ray, state);
 }
 
+
+uint32_t intersectClosestBvh4PacketScalar(const TriangleWideView<4>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                                   const QueryState& state) {
+  return intersectClosestWidePacketImpl<Float4Scalar, Float4Scalar>(bvh, rays, hits, active, state);
+}
+
+uint32_t intersectAnyBvh4PacketScalar(const TriangleWideView<4>& bvh, const Ray* rays, uint32_t active,
+                               const QueryState& state) {
+  return intersectAnyWidePacketImpl<Float4Scalar, Float4Scalar>(bvh, rays, active, state);
+}
+
+uint32_t intersectClosestBvh8PacketScalar(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                                   const QueryState& state) {
+  return intersectClosestWidePacketImpl<Float8Scalar, Float4Scalar>(bvh, rays, hits, active, state);
+}
+
+uint32_t intersectAnyBvh8PacketScalar(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
+                               const QueryState& state) {
+  return intersectAnyWidePacketImpl<Float8Scalar, Float4Scalar>(bvh, rays, active, state);
+}
+
 }  // namespace obvh

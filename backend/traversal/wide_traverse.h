@@ -18,6 +18,7 @@ struct WideRayFrame {
   bool anyZero = false;       // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
 
+  WideRayFrame() = default;
   explicit WideRayFrame(const Ray& ray) {
     for (int axis = 0; axis < 3; ++axis) {
       zero[axis] = ray.dir[axis] == 0.f;
@@ -146,6 +147,129 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
       current = hits[0].child;
     }
   }
+}
+
+// Packet traversal: each active ray tests a node with the single-ray kernel above (so every box
+// decision is the single ray's), while the packet shares the node loads, one stack and one
+// near-to-far order (by the smallest entry distance among the rays entering a child). Rays leave
+// the packet when leafVisitor(firstBlock, blockCount, rays) reports them finished (any-hit).
+template <typename FN, bool kNearToFar, typename LeafVisitor>
+void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, const WideRayFrame<FN>* frames,
+                        uint32_t active, LeafVisitor&& leafVisitor) {
+  constexpr int N = FN::kWidth;
+  using Node = WideNode<N>;
+  if (bvh.empty() || active == 0) return;
+  if (Node::isLeaf(bvh.root)) {
+    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root), active);
+    return;
+  }
+  struct Entry {
+    uint32_t child;
+    uint32_t rays;
+    float t;  // smallest entry distance of these rays
+  };
+  Entry stack[(N - 1) * 128];
+  int top = 0;
+  float tnearMin = std::numeric_limits<float>::infinity();
+  for (uint32_t m = active; m; m &= m - 1) tnearMin = std::min(tnearMin, rays[__builtin_ctz(m)].tnear);
+  stack[top++] = {bvh.root, active, tnearMin};
+  alignas(32) float entry[N];
+  while (top > 0) {
+    Entry e = stack[--top];
+    // Drop the rays that finished, and those whose segment ends before every ray's entry.
+    uint32_t current = e.child, currentRays = e.rays & active;
+    for (uint32_t m = currentRays; m; m &= m - 1)
+      if (e.t > rays[__builtin_ctz(m)].tfar) currentRays &= ~(1u << __builtin_ctz(m));
+    while (currentRays) {
+      if (Node::isLeaf(current)) {
+        active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
+        if (active == 0) return;
+        break;
+      }
+      const Node& node = bvh.nodes[current];
+      uint32_t childRays[N] = {};
+      float childEntry[N];
+      for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
+      int entered = 0;
+      for (uint32_t m = currentRays; m; m &= m - 1) {
+        const int r = __builtin_ctz(m);
+        int mask = intersectWideNode(node, frames[r], rays[r].tnear, rays[r].tfar, entry);
+        entered |= mask;
+        while (mask) {
+          const int c = __builtin_ctz(unsigned(mask));
+          mask &= mask - 1;
+          childRays[c] |= 1u << r;
+          childEntry[c] = std::min(childEntry[c], entry[c]);
+        }
+      }
+      if (entered == 0) break;
+      Entry hits[N];
+      int n = 0;
+      while (entered) {
+        const int c = __builtin_ctz(unsigned(entered));
+        entered &= entered - 1;
+        Entry h{node.child[c], childRays[c], childEntry[c]};
+        prefetchChild<N>(bvh, h.child);
+        int k = n++;
+        while (kNearToFar && k > 0 && hits[k - 1].t > h.t) {
+          hits[k] = hits[k - 1];
+          --k;
+        }
+        hits[k] = h;
+      }
+      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
+      current = hits[0].child;
+      currentRays = hits[0].rays & active;
+    }
+  }
+}
+
+// The per-ray constants of a packet's active lanes.
+template <typename FN>
+struct PacketFrames {
+  WideRayFrame<FN> box[kMaxPacketSize];
+  WatertightRay watertight[kMaxPacketSize];
+  PacketFrames(const Ray* rays, uint32_t active) {
+    for (; active; active &= active - 1) {
+      const int r = __builtin_ctz(active);
+      box[r] = WideRayFrame<FN>(rays[r]);
+      watertight[r] = WatertightRay(rays[r]);
+    }
+  }
+};
+
+template <typename FN, typename F4>
+uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
+                                        uint32_t active, const QueryState& state) {
+  const PacketFrames<FN> f(rays, active);
+  uint32_t found = 0;
+  traverseWidePacket<FN, true>(bvh, rays, f.box, active, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    for (; mask; mask &= mask - 1) {
+      const int r = __builtin_ctz(mask);
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.watertight[r], rays[r], hits[r], state))
+        found |= 1u << r;
+    }
+    return 0u;
+  });
+  return found;
+}
+
+template <typename FN, typename F4>
+uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
+                                    const QueryState& state) {
+  const PacketFrames<FN> f(rays, active);
+  uint32_t occluded = 0;
+  traverseWidePacket<FN, false>(bvh, rays, f.box, active, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    uint32_t finished = 0;
+    for (; mask; mask &= mask - 1) {
+      const int r = __builtin_ctz(mask);
+      if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.watertight[r], rays[r], state))
+        finished |= 1u << r;
+    }
+    occluded |= finished;
+    return finished;
+  });
+  return occluded;
 }
 
 template <typename FN, typename F4>

@@ -188,6 +188,65 @@ TEST(WideBvh, SimdMatchesScalarOnDenormalDirections) {
   expectSimdMatchesScalarOnDenormalDirections<8>();
 }
 
+// Packets of up to 16 rays (partial masks, coherent and incoherent lanes) find the same closest
+// distance and occlusion as each ray alone. The hit primitive may differ only where two
+// primitives tie at that distance (the packet visits leaves in its own order).
+template <int N>
+void expectPacketsMatchSingleRays(KernelIsa isa) {
+  Layouts<N> l(test::quadGrid(40, 0.3f, 11), 4);
+  const QueryState state;
+  const std::vector<Ray> pool = testRays(12, 16 * 400);
+  size_t hits = 0;
+  for (size_t p = 0; p < pool.size() / 16; ++p) {
+    Ray rays[kMaxPacketSize];
+    Hit packetHits[kMaxPacketSize];
+    const uint32_t active = p % 3 == 0 ? 0xFFFFu : uint32_t(0x5A5Bu ^ p) & 0xFFFFu;
+    for (int r = 0; r < 16; ++r) {
+      rays[r] = pool[p * 16 + r];
+      if (p % 2) rays[r].org = pool[p * 16].org;  // a common origin: coherent lanes
+    }
+    Ray packetRays[kMaxPacketSize];
+    std::copy(rays, rays + 16, packetRays);
+    const uint32_t found = intersectClosestWidePacket(l.view, packetRays, packetHits, active, state, isa);
+    const uint32_t occluded = intersectAnyWidePacket(l.view, rays, active, state, isa);
+    for (int r = 0; r < 16; ++r) {
+      const bool on = (active >> r) & 1;
+      Ray single = rays[r];
+      Hit hit;
+      const bool f = on && intersectClosestWide(l.view, single, hit, state, isa);
+      ASSERT_EQ(bool((found >> r) & 1), f) << "packet " << p << " lane " << r;
+      EXPECT_EQ(bool((occluded >> r) & 1), on && intersectAnyWide(l.view, rays[r], state, isa));
+      if (!on) {
+        EXPECT_EQ(packetRays[r].tfar, rays[r].tfar);  // inactive lanes untouched
+      }
+      if (!f) continue;
+      ++hits;
+      EXPECT_EQ(packetRays[r].tfar, single.tfar);
+      if (packetHits[r].primID != hit.primID) {
+        // A tie: the packet's primitive must report that very distance too.
+        bool reproduced = false;
+        for (const StoredTriangle& tri : l.triangles) {
+          if (tri.primID != packetHits[r].primID) continue;
+          Ray probe = rays[r];
+          probe.tfar = std::numeric_limits<float>::infinity();
+          TriangleHit th;
+          reproduced |= intersectWatertight(WatertightRay(probe), probe, tri.v0, tri.v1, tri.v2, th) && th.t == single.tfar;
+        }
+        EXPECT_TRUE(reproduced) << "packet " << p << " lane " << r << ": primID " << packetHits[r].primID << " vs "
+                                << hit.primID;
+      }
+    }
+  }
+  EXPECT_GT(hits, 300u);
+}
+
+TEST(WideBvh, PacketsMatchSingleRays) {
+  expectPacketsMatchSingleRays<4>(KernelIsa::Scalar);
+  expectPacketsMatchSingleRays<8>(KernelIsa::Scalar);
+  expectPacketsMatchSingleRays<4>(bestKernelIsa(4));
+  expectPacketsMatchSingleRays<8>(bestKernelIsa(8));
+}
+
 template <int N>
 void expectNanRaysHitNothing() {
   Layouts<N> l(test::randomTriangleSoup(500, 6), 4);
