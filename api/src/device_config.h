@@ -18,7 +18,7 @@ struct DeviceConfig {
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
   int maxLeafSize = 4;
-  ObbSplit obbSplit = ObbSplit::Sah;  // accel=obb|hybrid only
+  ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
   int obbClusters = 0;
   float obbTestCost = 2.f;

@@ -69,6 +69,7 @@ class SceneAccel {
 
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
+  bool orientedBoxesPayOff() const;
   bool intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObjects(const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);

@@ -41,7 +41,7 @@ TEST(LayoutMeasure, CountsVolumeTestsWhereTheLayoutCountsThem) {
 TEST(LayoutMeasure, OrientedBoxesCutSahCostAndTestsOnSlantedLines) {
   const SmallStudy s;
   const LayoutMeasure aabb = measureLayout(s.scene, *findLayoutConfig("aabb"), s.views, 1);
-  const LayoutMeasure obb = measureLayout(s.scene, *findLayoutConfig("aabb-tree-obb"), s.views, 1);
+  const LayoutMeasure obb = measureLayout(s.scene, *findLayoutConfig("obb"), s.views, 1);
   EXPECT_EQ(aabb.orientedNodeCount, 0u);
   EXPECT_GT(obb.orientedNodeCount, 0u);
   EXPECT_LT(obb.sahCost, 0.5 * aabb.sahCost);

@@ -3,7 +3,7 @@
 namespace obvh::tools {
 namespace {
 
-LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout, ObbSplit split = ObbSplit::Sah,
+LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout, ObbSplit split = ObbSplit::AabbSah,
                   int clusters = 0) {
   LayoutConfig c{name, deviceConfig, BuildOptions{}};
   c.options.layout = layout;
@@ -18,15 +18,14 @@ const std::vector<LayoutConfig>& layoutConfigs() {
   static const std::vector<LayoutConfig> configs = {
       make("aabb", "accel=bvh2", AccelLayout::Bvh2),
       make("aabb-bvh8", "accel=bvh8", AccelLayout::Bvh8),
-      make("aabb-tree-obb", "accel=obb,obb_split=aabb", AccelLayout::Obb, ObbSplit::AabbSah),
+      make("obb", "accel=obb", AccelLayout::Obb),  // the axis-aligned SAH tree traced with oriented boxes
       make("obb-midpoint", "accel=obb,obb_split=midpoint", AccelLayout::Obb, ObbSplit::Midpoint),
       make("obb-median", "accel=obb,obb_split=median", AccelLayout::Obb, ObbSplit::Median),
-      make("obb-sah", "accel=obb", AccelLayout::Obb),
+      make("obb-sah", "accel=obb,obb_split=sah", AccelLayout::Obb, ObbSplit::Sah),
       make("hybrid", "accel=hybrid", AccelLayout::Hybrid),
-      make("hybrid-aabb-tree", "accel=hybrid,obb_split=aabb", AccelLayout::Hybrid, ObbSplit::AabbSah),
-      make("obb-k1000", "accel=obb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::Sah, 1000),
-      make("hybrid-k1000", "accel=hybrid,obb_clusters=1000", AccelLayout::Hybrid, ObbSplit::Sah, 1000),
-      make("aabb-tree-obb-k1000", "accel=obb,obb_split=aabb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::AabbSah, 1000),
+      make("hybrid-sah", "accel=hybrid,obb_split=sah", AccelLayout::Hybrid, ObbSplit::Sah),
+      make("obb-k1000", "accel=obb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::AabbSah, 1000),
+      make("hybrid-k1000", "accel=hybrid,obb_clusters=1000", AccelLayout::Hybrid, ObbSplit::AabbSah, 1000),
   };
   return configs;
 }
