@@ -93,6 +93,11 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
     return;
   }
   const WideRayFrame<FN> frame(ray);
+  // Once a closest-hit query has a hit (tfar shrank), a box entered exactly at tfar can only add
+  // hits at that same distance: an equally valid answer, not a closer one. Skipping such boxes
+  // matters for rays parallel to flat layers, where many boxes share the entry distance.
+  const float initialTfar = ray.tfar;
+  auto skip = [&](float entryT) { return entryT > ray.tfar || (kNearToFar && entryT == ray.tfar && ray.tfar < initialTfar); };
   struct Entry {
     uint32_t child;
     float t;
@@ -103,7 +108,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   alignas(32) float entry[N];
   while (top > 0) {
     const Entry e = stack[--top];
-    if (e.t > ray.tfar) continue;
+    if (skip(e.t)) continue;
     uint32_t current = e.child;
     for (;;) {
       if (Node::isLeaf(current)) {
@@ -112,6 +117,9 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
       }
       const Node& node = bvh.nodes[current];
       int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry);
+      if (kNearToFar && ray.tfar < initialTfar)
+        for (int m = mask; m; m &= m - 1)
+          if (entry[__builtin_ctz(unsigned(m))] == ray.tfar) mask &= ~(1 << __builtin_ctz(unsigned(m)));
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
         current = node.child[__builtin_ctz(unsigned(mask))];
