@@ -32,6 +32,8 @@ class SceneAccel {
   void build(const SceneDesc& desc, const BuildOptions& options);
 
   const Box3f& bounds() const { return bounds_; }
+  // The triangle layout traced (accel=hybrid may have settled on a wide AABB layout).
+  AccelLayout layout() const { return layout_; }
   SceneStats stats() const;
 
   // counters (metrics only) count the volume tests of the triangle BVH; they are kept for the

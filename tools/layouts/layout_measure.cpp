@@ -80,7 +80,7 @@ LayoutMeasure measureLayout(const SceneData& scene, const LayoutConfig& config, 
         });
       }));
     vm.renderMs = median(times);
-    if (countsVolumeTests(config.options.layout)) {
+    if (countsVolumeTests(accel.layout())) {
       // A separate pass: counting is kept out of the timed one.
       vm.testsPerPixel.assign(view.rays.size(), 0.f);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, view.rays.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
