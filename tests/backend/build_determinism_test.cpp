@@ -1,0 +1,126 @@
+// The same input gives the same tree and the same hits whatever the number of build threads.
+#include <gtest/gtest.h>
+
+#include <tbb/task_arena.h>
+
+#include <limits>
+#include <random>
+
+#include "builders/binned_sah_builder.h"
+#include "builders/obb_split_builder.h"
+#include "scene/primitive_collection.h"
+#include "scene/scene_accel.h"
+#include "test_scenes.h"
+
+namespace obvh {
+namespace {
+
+// Large enough for the parallel binning (2^16 primitives) and parallel recursion paths.
+test::MeshData bigSoup() { return test::randomTriangleSoup(150000, 31); }
+
+MeshDesc describe(const test::MeshData& mesh) {
+  MeshDesc desc;
+  desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
+  desc.vertexStride = 12;
+  desc.vertexCount = mesh.vertexCount();
+  desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
+  desc.indexStride = 12;
+  desc.primCount = mesh.primitiveCount();
+  return desc;
+}
+
+template <typename F>
+auto withThreads(int threads, F&& f) {
+  tbb::task_arena arena(threads);
+  return arena.execute(f);
+}
+
+// Node indices come from an atomic counter and depend on task timing; the tree does not.
+void expectSameTree(const BinaryBvh& a, uint32_t ia, const BinaryBvh& b, uint32_t ib) {
+  const Bvh2Node& na = a.nodes[ia];
+  const Bvh2Node& nb = b.nodes[ib];
+  ASSERT_EQ(na.primCount, nb.primCount);
+  ASSERT_EQ(na.bounds.lower.x, nb.bounds.lower.x);
+  ASSERT_EQ(na.bounds.upper.z, nb.bounds.upper.z);
+  if (na.isLeaf()) {
+    for (uint32_t i = 0; i < na.primCount; ++i)
+      ASSERT_EQ(a.primIndices[na.firstChildOrPrim + i], b.primIndices[nb.firstChildOrPrim + i]);
+    return;
+  }
+  expectSameTree(a, na.firstChildOrPrim, b, nb.firstChildOrPrim);
+  expectSameTree(a, na.firstChildOrPrim + 1, b, nb.firstChildOrPrim + 1);
+}
+
+TEST(BuildDeterminism, BinnedSahTreeIsTheSameOnOneAndTwoThreads) {
+  const test::MeshData soup = bigSoup();
+  const CollectedPrimitives collected = collectPrimitives({describe(soup)});
+  const BuildOptions options;
+  const BinaryBvh one = withThreads(1, [&] {
+    std::vector<PrimRef> refs = collected.refs;
+    return buildBinnedSah(refs, options);
+  });
+  const BinaryBvh two = withThreads(2, [&] {
+    std::vector<PrimRef> refs = collected.refs;
+    return buildBinnedSah(refs, options);
+  });
+  ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  expectSameTree(one, 0, two, 0);
+}
+
+TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
+  const test::MeshData soup = bigSoup();
+  const CollectedPrimitives collected = collectPrimitives({describe(soup)});
+  const BuildOptions options;
+  const BinaryBvh one = withThreads(1, [&] {
+    std::vector<PrimRef> refs = collected.refs;
+    return buildInObbFrames(refs, collected.triangles.data(), options);
+  });
+  const BinaryBvh two = withThreads(2, [&] {
+    std::vector<PrimRef> refs = collected.refs;
+    return buildInObbFrames(refs, collected.triangles.data(), options);
+  });
+  ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  expectSameTree(one, 0, two, 0);
+}
+
+// Every layout: bit-identical answers from scenes built on one and on two threads.
+TEST(BuildDeterminism, HitsAreTheSameOnOneAndTwoThreadsInEveryLayout) {
+  const test::MeshData soup = bigSoup();
+  SceneDesc desc;
+  desc.meshes = {describe(soup)};
+  desc.geometryIdLimit = 1;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-0.5f, 1.5f);
+  std::vector<Ray> rays(20000);
+  for (Ray& ray : rays) {
+    ray.org = {unit(rng), unit(rng), unit(rng)};
+    ray.dir = Vec3f{unit(rng), unit(rng), unit(rng)} - ray.org;
+    ray.tfar = std::numeric_limits<float>::infinity();
+  }
+  for (AccelLayout layout : {AccelLayout::Bvh2, AccelLayout::Bvh4, AccelLayout::Bvh8, AccelLayout::Obb, AccelLayout::Hybrid}) {
+    BuildOptions options;
+    options.layout = layout;
+    options.obbClusters = layout == AccelLayout::Obb ? 64 : 0;
+    SceneAccel one, two;
+    withThreads(1, [&] { one.build(desc, options); });
+    withThreads(2, [&] { two.build(desc, options); });
+    const QueryState state;
+    size_t hits = 0;
+    for (const Ray& ray : rays) {
+      Ray r1 = ray, r2 = ray;
+      Hit h1, h2;
+      const bool f1 = one.intersect(r1, h1, state);
+      ASSERT_EQ(f1, two.intersect(r2, h2, state)) << "layout " << int(layout);
+      hits += f1;
+      if (!f1) continue;
+      ASSERT_EQ(r1.tfar, r2.tfar);
+      ASSERT_EQ(h1.primID, h2.primID);
+      ASSERT_EQ(h1.u, h2.u);
+      ASSERT_EQ(h1.v, h2.v);
+    }
+    EXPECT_GT(hits, 10000u);
+  }
+}
+
+}  // namespace
+}  // namespace obvh
