@@ -46,6 +46,7 @@ class Geometry : public RefCounted {
   void setVertexAttributeCount(unsigned count);
   void setMask(unsigned mask);
   void setBuildQuality(int quality);
+  int buildQuality() const { return quality_; }
   void setEnabled(bool enabled);
   void commit();
 

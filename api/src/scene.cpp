@@ -107,7 +107,25 @@ UserGeometryDesc userGeometryOf(const Geometry& g, uint32_t geomID) {
 
 }  // namespace
 
+// Embree refits geometries whose build quality is RTC_BUILD_QUALITY_REFIT when only their vertices
+// changed; obvh refits when every geometry of the scene asks for it and the set is unchanged
+// (SceneAccel::refit checks the rest and falls back to a build).
+bool Scene::wantsRefit() const {
+  if (builtGeometries_.size() != geometries_.size()) return false;
+  for (size_t id = 0; id < geometries_.size(); ++id)
+    if (builtGeometries_[id].get() != geometries_[id].get()) return false;
+  bool any = false;
+  for (const Ref<Geometry>& g : geometries_) {
+    if (!g) continue;
+    const bool mesh = g->type() == RTC_GEOMETRY_TYPE_TRIANGLE || g->type() == RTC_GEOMETRY_TYPE_QUAD;
+    if (!mesh || g->buildQuality() != RTC_BUILD_QUALITY_REFIT) return false;
+    any = true;
+  }
+  return any;
+}
+
 void Scene::rebuild() {
+  const bool refit = wantsRefit();
   SceneDesc desc;
   desc.owner = this;
   desc.geometryIdLimit = uint32_t(geometries_.size());
@@ -164,7 +182,9 @@ void Scene::rebuild() {
   options.obbBins = device_->config().obbBins;
   options.obbClusters = device_->config().obbClusters;
   options.obbTestCost = device_->config().obbTestCost;
-  device_->execute([&] { accel_.build(desc, options); });
+  device_->execute([&] {
+    if (!(refit && accel_.refit(desc, options))) accel_.build(desc, options);
+  });
   ++buildGeneration_;
 
   const size_t memory = accel_.stats().memoryBytes;

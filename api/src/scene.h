@@ -52,6 +52,7 @@ class Scene : public RefCounted {
  private:
   bool needsRebuild() const;
   void rebuild();
+  bool wantsRefit() const;
 
   Ref<Device> device_;
   std::mutex mutex_;

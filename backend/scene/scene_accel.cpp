@@ -88,6 +88,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   occlusionFiltered_.resize(desc.geometryIdLimit, 0);
 
   CollectedPrimitives collected = collectPrimitives(desc.meshes);
+  requested_ = options;
   layout_ = options.layout;
   BuildOptions triangleOptions = options;
   const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
@@ -133,33 +134,37 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   bounds_ = Box3f{};
   if (!triangleBvh_.empty()) bounds_.extend(triangleBvh_.nodes[0].bounds);
   if (!objectBvh_.empty()) bounds_.extend(objectBvh_.nodes[0].bounds);
+  triangleOriented_ = OrientedBvh{};
+  if (!triangleBvh_.empty() && oriented) {
+    triangleOriented_ = makeOrientedLayout(triangleBvh_, triangles_.data(), triangleOptions);
+    if (layout_ == AccelLayout::Hybrid && !orientedBoxesPayOff()) {
+      layout_ = simd::cpuHasAvx2() ? AccelLayout::Bvh8 : AccelLayout::Bvh4;
+      triangleOriented_ = OrientedBvh{};
+    }
+  }
+  makeTriangleViews();
+}
+
+// The traced forms of the binary tree: its wide collapse when that layout is selected, and the
+// views the queries use.
+void SceneAccel::makeTriangleViews() {
   const TriangleSet set{triangles_.data(), geometryMasks_.data(), intersectFiltered_.data(), occlusionFiltered_.data(),
-                        owner_, options.intersector == IntersectorMode::Fast};
+                        owner_, options_.intersector == IntersectorMode::Fast};
   triangleView_ = TriangleBvhView{};
   triangleView4_ = {};
   triangleBvh4_ = {};
   triangleView8_ = {};
   triangleBvh8_ = {};
-  triangleOriented_ = OrientedBvh{};
   triangleOrientedView_ = TriangleOrientedView{};
-  if (!triangleBvh_.empty()) {
-    triangleView_ = {triangleBvh_.nodes.data(), set};
-    if (oriented) {
-      triangleOriented_ = makeOrientedLayout(triangleBvh_, triangles_.data(), triangleOptions);
-      triangleOrientedView_ = {&triangleOriented_, set};
-      if (layout_ == AccelLayout::Hybrid && !orientedBoxesPayOff()) {
-        layout_ = simd::cpuHasAvx2() ? AccelLayout::Bvh8 : AccelLayout::Bvh4;
-        triangleOriented_ = OrientedBvh{};
-        triangleOrientedView_ = TriangleOrientedView{};
-      }
-    }
-    if (layout_ == AccelLayout::Bvh4) {
-      triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data());
-      triangleView4_ = makeWideView(triangleBvh4_, set);
-    } else if (layout_ == AccelLayout::Bvh8) {
-      triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data());
-      triangleView8_ = makeWideView(triangleBvh8_, set);
-    }
+  if (triangleBvh_.empty()) return;
+  triangleView_ = {triangleBvh_.nodes.data(), set};
+  if (!triangleOriented_.nodes.empty()) triangleOrientedView_ = {&triangleOriented_, set};
+  if (layout_ == AccelLayout::Bvh4) {
+    triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data());
+    triangleView4_ = makeWideView(triangleBvh4_, set);
+  } else if (layout_ == AccelLayout::Bvh8) {
+    triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data());
+    triangleView8_ = makeWideView(triangleBvh8_, set);
   }
 }
 
@@ -172,6 +177,61 @@ bool SceneAccel::orientedBoxesPayOff() const {
   if (options_.maxLeafSize > int(4 * Bvh4Node::kMaxLeafBlocks)) return true;  // no wide layout can hold the leaves
   return measureLayout(triangleOriented_, options_).sahCost * kWideAabbAdvantage <
          measureLayout(triangleBvh_, options_).sahCost;
+}
+
+namespace {
+
+// Post-order: every node's box becomes the union of its triangles' or children's boxes.
+Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle>& triangles) {
+  const Bvh2Node node = bvh.nodes[index];
+  Box3f box;
+  if (node.isLeaf()) {
+    for (uint32_t i = node.firstChildOrPrim; i < node.firstChildOrPrim + node.primCount; ++i) {
+      box.extend(triangles[i].v0);
+      box.extend(triangles[i].v1);
+      box.extend(triangles[i].v2);
+    }
+  } else {
+    box = refitNode(bvh, node.firstChildOrPrim, triangles);
+    box.extend(refitNode(bvh, node.firstChildOrPrim + 1, triangles));
+  }
+  bvh.nodes[index].bounds = box;
+  return box;
+}
+
+bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
+  return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
+         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters;
+}
+
+}  // namespace
+
+bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
+  if (triangleBvh_.empty() || !sameOptions(options, requested_)) return false;
+  if (layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid) return false;
+  if (!desc.instances.empty() || !desc.userGeometries.empty() || !objects_.empty()) return false;
+  if (desc.geometryIdLimit != geometryMasks_.size()) return false;
+  std::vector<uint8_t> intersectFiltered = desc.intersectFiltered, occlusionFiltered = desc.occlusionFiltered;
+  intersectFiltered.resize(desc.geometryIdLimit, 0);
+  occlusionFiltered.resize(desc.geometryIdLimit, 0);
+  if (intersectFiltered != intersectFiltered_ || occlusionFiltered != occlusionFiltered_) return false;
+  for (const MeshDesc& mesh : desc.meshes)
+    if (geometryMasks_[mesh.geomID] != mesh.mask) return false;
+  const CollectedPrimitives collected = collectPrimitives(desc.meshes);
+  // The same primitives must be valid as before (a vertex turning NaN drops its primitive).
+  if (collected.triangles.size() != triangles_.size()) return false;
+  const std::vector<uint32_t>& order = triangleBvh_.primIndices;
+  for (size_t i = 0; i < triangles_.size(); ++i) {
+    const StoredTriangle& now = collected.triangles[order[i]];
+    if (now.geomID != triangles_[i].geomID || now.primID != triangles_[i].primID || now.kind != triangles_[i].kind)
+      return false;
+  }
+  owner_ = desc.owner;
+  tbb::parallel_for(size_t(0), triangles_.size(), [&](size_t i) { triangles_[i] = collected.triangles[order[i]]; });
+  refitNode(triangleBvh_, 0, triangles_);
+  bounds_ = triangleBvh_.nodes[0].bounds;
+  makeTriangleViews();
+  return true;
 }
 
 Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {

@@ -30,6 +30,11 @@ struct SceneStats {
 class SceneAccel {
  public:
   void build(const SceneDesc& desc, const BuildOptions& options);
+  // RTC_BUILD_QUALITY_REFIT: keeps the tree and recomputes its bounds from desc's new vertices.
+  // Returns false (and changes nothing) unless the scene was built before with the same options,
+  // from triangles and quads only, with the same primitives: then the caller builds instead.
+  // Oriented layouts are never refitted (their frames would have to be fitted again).
+  bool refit(const SceneDesc& desc, const BuildOptions& options);
 
   const Box3f& bounds() const { return bounds_; }
   // The triangle layout traced (accel=hybrid may have settled on a wide AABB layout).
@@ -72,6 +77,7 @@ class SceneAccel {
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
   bool orientedBoxesPayOff() const;
+  void makeTriangleViews();
   bool intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObjects(const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);
@@ -86,6 +92,7 @@ class SceneAccel {
   OrientedBvh triangleOriented_;
   TriangleOrientedView triangleOrientedView_;
   BuildOptions options_;
+  BuildOptions requested_;  // as passed to build(), for refit's same-options check
   std::vector<StoredTriangle> triangles_;
   // Instances and user primitives.
   BinaryBvh objectBvh_;

@@ -1,6 +1,8 @@
 // rtcIntersect1 and rtcOccluded1 through obvh and Debian's Embree on the same scenes and rays.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "crossval_harness.h"
 #include "stack_generator.h"
 #include "test_scenes.h"
@@ -104,6 +106,32 @@ TEST(CrossvalIntersect, ManyGeometriesWithMasksAndDisabled) {
   expectNoMismatch("masked+disabled intersect", crossvalIntersect1(scene, rays));
   rays.resize(50000);
   expectNoMismatch("masked+disabled occluded", crossvalOccluded1(scene, rays));
+}
+
+// RTC_BUILD_QUALITY_REFIT: both libraries keep their trees and refit them after each vertex update.
+TEST(CrossvalIntersect, RefitAfterVertexAnimation) {
+  SceneData scene;
+  scene.name = "refit";
+  scene.meshes.push_back(randomTriangleSoup(5000, 25));
+  scene.meshes.push_back(quadGrid(40, 0.2f, 26));
+  const LoadedLibraries& libs = libraries();
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene);
+  for (unsigned id = 0; id < 2; ++id) {
+    libs.embree->rtcSetGeometryBuildQuality(reference.geometry(id), RTC_BUILD_QUALITY_REFIT);
+    libs.obvh->rtcSetGeometryBuildQuality(candidate.geometry(id), RTC_BUILD_QUALITY_REFIT);
+  }
+  reference.recommit(scene);
+  candidate.recommit(scene);
+  for (int frame = 1; frame <= 3; ++frame) {
+    for (MeshData& mesh : scene.meshes)
+      for (size_t i = 0; i + 2 < mesh.vertices.size(); i += 3)
+        mesh.vertices[i + 2] += 0.1f * std::sin(5.f * mesh.vertices[i] + float(frame));
+    reference.recommit(scene);
+    candidate.recommit(scene);
+    expectNoMismatch("refit frame", compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays / 4, kGridSide, 27 + frame)));
+  }
+  EXPECT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
 }
 
 TEST(CrossvalIntersect, UpdatedAndRecommittedGeometry) {

@@ -1,0 +1,113 @@
+// RTC_BUILD_QUALITY_REFIT in the backend: after the vertices move, a refitted tree answers like a
+// tree built from scratch; refit refuses what it cannot keep.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "scene/scene_accel.h"
+#include "test_scenes.h"
+
+namespace obvh {
+namespace {
+
+struct Animated {
+  test::MeshData soup = test::randomTriangleSoup(20000, 41);
+  test::MeshData grid = test::quadGrid(40, 0.3f, 42);
+  SceneDesc desc;
+
+  Animated() {
+    for (const test::MeshData* mesh : {&soup, &grid}) {
+      MeshDesc m;
+      m.vertices = reinterpret_cast<const unsigned char*>(mesh->vertices.data());
+      m.vertexStride = 12;
+      m.vertexCount = mesh->vertexCount();
+      m.indices = reinterpret_cast<const unsigned char*>(mesh->indices.data());
+      m.indexStride = mesh->quads ? 16 : 12;
+      m.primCount = mesh->primitiveCount();
+      m.quads = mesh->quads;
+      m.geomID = uint32_t(desc.meshes.size());
+      desc.meshes.push_back(m);
+    }
+    desc.geometryIdLimit = 2;
+  }
+  // A non-rigid motion: every vertex moves differently, so boxes change shape and overlap.
+  void animate(float time) {
+    for (test::MeshData* mesh : {&soup, &grid})
+      for (size_t i = 0; i + 2 < mesh->vertices.size(); i += 3) {
+        float* v = &mesh->vertices[i];
+        v[2] += 0.2f * std::sin(6.f * v[0] + time) * std::cos(5.f * v[1]);
+        v[0] += 0.05f * std::sin(3.f * v[2] + time);
+      }
+  }
+};
+
+std::vector<Ray> rays(uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(-0.5f, 1.5f);
+  std::vector<Ray> out(20000);
+  for (Ray& ray : out) {
+    ray.org = {unit(rng), unit(rng), unit(rng)};
+    ray.dir = Vec3f{unit(rng), unit(rng), unit(rng)} - ray.org;
+    ray.tfar = std::numeric_limits<float>::infinity();
+  }
+  return out;
+}
+
+TEST(Refit, RefittedTreeAnswersLikeAFreshBuildInEveryAabbLayout) {
+  for (AccelLayout layout : {AccelLayout::Bvh2, AccelLayout::Bvh4, AccelLayout::Bvh8}) {
+    Animated scene;
+    BuildOptions options;
+    options.layout = layout;
+    SceneAccel refitted;
+    refitted.build(scene.desc, options);
+    const size_t nodesBefore = refitted.triangleLayoutMetrics().nodeCount;
+    for (int frame = 1; frame <= 3; ++frame) {
+      scene.animate(float(frame));
+      ASSERT_TRUE(refitted.refit(scene.desc, options)) << "layout " << int(layout);
+      EXPECT_EQ(refitted.triangleLayoutMetrics().nodeCount, nodesBefore);  // the binary topology is kept
+      SceneAccel rebuilt;
+      rebuilt.build(scene.desc, options);
+      const QueryState state;
+      size_t hits = 0;
+      for (const Ray& ray : rays(uint32_t(frame))) {
+        Ray a = ray, b = ray;
+        Hit ha, hb;
+        const bool fa = refitted.intersect(a, ha, state);
+        ASSERT_EQ(fa, rebuilt.intersect(b, hb, state)) << "layout " << int(layout) << " frame " << frame;
+        EXPECT_EQ(refitted.occluded(ray, state), rebuilt.occluded(ray, state));
+        if (!fa) continue;
+        ++hits;
+        // The closest distance is unique; only equally distant primitives may be reported differently.
+        ASSERT_EQ(a.tfar, b.tfar);
+      }
+      EXPECT_GT(hits, 5000u);
+      EXPECT_EQ(refitted.bounds().upper.z, rebuilt.bounds().upper.z);
+    }
+  }
+}
+
+TEST(Refit, RefusesWhatItCannotKeep) {
+  Animated scene;
+  BuildOptions options;
+  SceneAccel accel;
+  EXPECT_FALSE(accel.refit(scene.desc, options));  // nothing built yet
+  accel.build(scene.desc, options);
+  BuildOptions other = options;
+  other.maxLeafSize = 2;
+  EXPECT_FALSE(accel.refit(scene.desc, other));  // other build options
+  SceneDesc fewer = scene.desc;
+  fewer.meshes[0].primCount -= 1;
+  EXPECT_FALSE(accel.refit(fewer, options));  // other primitives
+  scene.soup.vertices[0] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(accel.refit(scene.desc, options));  // a primitive became invalid
+  BuildOptions oriented = options;
+  oriented.layout = AccelLayout::Obb;
+  SceneAccel obb;
+  obb.build(scene.desc, oriented);
+  EXPECT_FALSE(obb.refit(scene.desc, oriented));  // oriented frames are not refitted
+}
+
+}  // namespace
+}  // namespace obvh
