@@ -98,6 +98,7 @@ struct LibraryRun {
   std::unique_ptr<CommittedScene> scene;
   double buildMs = 0;
   double refitMs = 0;
+  double lowBuildMs = 0;
   std::vector<Result> results;  // one per workload, in table order
 };
 
@@ -226,6 +227,10 @@ int main(int argc, char** argv) {
       }
       run.buildMs = median(buildTimes);
       run.refitMs = refitMilliseconds(*run.lib, run.device, scene, options.runs);
+      std::vector<double> lowTimes;
+      for (int r = 0; r < options.runs; ++r)
+        lowTimes.push_back(millisecondsOf([&] { CommittedScene low(*run.lib, run.device, scene, RTC_SCENE_FLAG_NONE, RTC_BUILD_QUALITY_LOW); }));
+      run.lowBuildMs = median(lowTimes);
     }
 
     RTCBounds bounds;
@@ -264,6 +269,7 @@ int main(int argc, char** argv) {
                 options.runs, int(std::thread::hardware_concurrency()));
     std::printf("  %-42s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
     printRow("build ms", runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
+    printRow("build ms, RTC_BUILD_QUALITY_LOW", runs[0].lowBuildMs, runs[1].lowBuildMs, runs[2].lowBuildMs, true);
     printRow("refit ms (RTC_BUILD_QUALITY_REFIT)", runs[0].refitMs, runs[1].refitMs, runs[2].refitMs, true);
     for (size_t k = 0; k < workloads.size(); ++k)
       printRow((std::string(workloads[k].name) + " Mrays/s").c_str(), runs[0].results[k].mrays,
