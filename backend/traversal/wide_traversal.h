@@ -31,51 +31,51 @@ enum class KernelIsa { Scalar, Simd };
 // Simd when the CPU has the instruction set the layout's kernels need.
 KernelIsa bestKernelIsa(int width);
 
-bool intersectClosestWide(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state,
-                          KernelIsa isa = bestKernelIsa(4));
-bool intersectAnyWide(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state,
-                      KernelIsa isa = bestKernelIsa(4));
-bool intersectClosestWide(const TriangleWideView<8>& bvh, Ray& ray, Hit& hit, const QueryState& state,
-                          KernelIsa isa = bestKernelIsa(8));
-bool intersectAnyWide(const TriangleWideView<8>& bvh, const Ray& ray, const QueryState& state,
-                      KernelIsa isa = bestKernelIsa(8));
+// One instruction set's kernels for one width: closest hit and any hit, single rays and packets.
+// Packet queries return the mask of lanes that hit (rays[i].tfar and hits[i] updated) or are occluded.
+template <int N>
+struct WideKernels {
+  bool (*closest)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
+  bool (*any)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
+  uint32_t (*closestPacket)(const TriangleWideView<N>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                            const QueryState& state);
+  uint32_t (*anyPacket)(const TriangleWideView<N>& bvh, const Ray* rays, uint32_t active, const QueryState& state);
+};
 
-// Packet queries: return the mask of lanes that hit (closest hit: rays[i].tfar and hits[i] updated)
-// or are occluded.
-uint32_t intersectClosestWidePacket(const TriangleWideView<4>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                    const QueryState& state, KernelIsa isa = bestKernelIsa(4));
-uint32_t intersectAnyWidePacket(const TriangleWideView<4>& bvh, const Ray* rays, uint32_t active,
-                                const QueryState& state, KernelIsa isa = bestKernelIsa(4));
-uint32_t intersectClosestWidePacket(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                    const QueryState& state, KernelIsa isa = bestKernelIsa(8));
-uint32_t intersectAnyWidePacket(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
-                                const QueryState& state, KernelIsa isa = bestKernelIsa(8));
+// Defined in wide_traversal_<isa>.cpp, each compiled for its instruction set.
+const WideKernels<4>& bvh4ScalarKernels();
+const WideKernels<8>& bvh8ScalarKernels();
+const WideKernels<4>& bvh4Sse42Kernels();
+const WideKernels<8>& bvh8Avx2Kernels();
 
-// Per-ISA entry points (defined in wide_traversal_<isa>.cpp).
-bool intersectClosestBvh4Scalar(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state);
-bool intersectAnyBvh4Scalar(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state);
-bool intersectClosestBvh8Scalar(const TriangleWideView<8>& bvh, Ray& ray, Hit& hit, const QueryState& state);
-bool intersectAnyBvh8Scalar(const TriangleWideView<8>& bvh, const Ray& ray, const QueryState& state);
-bool intersectClosestBvh4Sse42(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state);
-bool intersectAnyBvh4Sse42(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state);
-bool intersectClosestBvh8Avx2(const TriangleWideView<8>& bvh, Ray& ray, Hit& hit, const QueryState& state);
-bool intersectAnyBvh8Avx2(const TriangleWideView<8>& bvh, const Ray& ray, const QueryState& state);
+template <int N>
+const WideKernels<N>& wideKernels(KernelIsa isa) {
+  if constexpr (N == 4) return isa == KernelIsa::Simd ? bvh4Sse42Kernels() : bvh4ScalarKernels();
+  else return isa == KernelIsa::Simd ? bvh8Avx2Kernels() : bvh8ScalarKernels();
+}
 
-uint32_t intersectClosestBvh4PacketScalar(const TriangleWideView<4>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                          const QueryState& state);
-uint32_t intersectAnyBvh4PacketScalar(const TriangleWideView<4>& bvh, const Ray* rays, uint32_t active,
-                                      const QueryState& state);
-uint32_t intersectClosestBvh8PacketScalar(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                          const QueryState& state);
-uint32_t intersectAnyBvh8PacketScalar(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
-                                      const QueryState& state);
-uint32_t intersectClosestBvh4PacketSse42(const TriangleWideView<4>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                         const QueryState& state);
-uint32_t intersectAnyBvh4PacketSse42(const TriangleWideView<4>& bvh, const Ray* rays, uint32_t active,
-                                     const QueryState& state);
-uint32_t intersectClosestBvh8PacketAvx2(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                        const QueryState& state);
-uint32_t intersectAnyBvh8PacketAvx2(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
-                                    const QueryState& state);
+template <int N>
+bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state,
+                          KernelIsa isa = bestKernelIsa(N)) {
+  return wideKernels<N>(isa).closest(bvh, ray, hit, state);
+}
+
+template <int N>
+bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state,
+                      KernelIsa isa = bestKernelIsa(N)) {
+  return wideKernels<N>(isa).any(bvh, ray, state);
+}
+
+template <int N>
+uint32_t intersectClosestWidePacket(const TriangleWideView<N>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                                    const QueryState& state, KernelIsa isa = bestKernelIsa(N)) {
+  return wideKernels<N>(isa).closestPacket(bvh, rays, hits, active, state);
+}
+
+template <int N>
+uint32_t intersectAnyWidePacket(const TriangleWideView<N>& bvh, const Ray* rays, uint32_t active,
+                                const QueryState& state, KernelIsa isa = bestKernelIsa(N)) {
+  return wideKernels<N>(isa).anyPacket(bvh, rays, active, state);
+}
 
 }  // namespace obvh

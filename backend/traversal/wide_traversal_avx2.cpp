@@ -6,23 +6,6 @@
 
 namespace obvh {
 
-bool intersectClosestBvh8Avx2(const TriangleWideView<8>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  return intersectClosestWideImpl<simd::Float8Avx, simd::Float4Sse>(bvh, ray, hit, state);
-}
-
-bool intersectAnyBvh8Avx2(const TriangleWideView<8>& bvh, const Ray& ray, const QueryState& state) {
-  return intersectAnyWideImpl<simd::Float8Avx, simd::Float4Sse>(bvh, ray, state);
-}
-
-
-uint32_t intersectClosestBvh8PacketAvx2(const TriangleWideView<8>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                   const QueryState& state) {
-  return intersectClosestWidePacketImpl<simd::Float8Avx, simd::Float4Sse>(bvh, rays, hits, active, state);
-}
-
-uint32_t intersectAnyBvh8PacketAvx2(const TriangleWideView<8>& bvh, const Ray* rays, uint32_t active,
-                               const QueryState& state) {
-  return intersectAnyWidePacketImpl<simd::Float8Avx, simd::Float4Sse>(bvh, rays, active, state);
-}
+const WideKernels<8>& bvh8Avx2Kernels() { return makeWideKernels<simd::Float8Avx, simd::Float4Sse>(); }
 
 }  // namespace obvh

@@ -4,23 +4,6 @@
 
 namespace obvh {
 
-bool intersectClosestBvh4Sse42(const TriangleWideView<4>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  return intersectClosestWideImpl<simd::Float4Sse, simd::Float4Sse>(bvh, ray, hit, state);
-}
-
-bool intersectAnyBvh4Sse42(const TriangleWideView<4>& bvh, const Ray& ray, const QueryState& state) {
-  return intersectAnyWideImpl<simd::Float4Sse, simd::Float4Sse>(bvh, ray, state);
-}
-
-
-uint32_t intersectClosestBvh4PacketSse42(const TriangleWideView<4>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                   const QueryState& state) {
-  return intersectClosestWidePacketImpl<simd::Float4Sse, simd::Float4Sse>(bvh, rays, hits, active, state);
-}
-
-uint32_t intersectAnyBvh4PacketSse42(const TriangleWideView<4>& bvh, const Ray* rays, uint32_t active,
-                               const QueryState& state) {
-  return intersectAnyWidePacketImpl<simd::Float4Sse, simd::Float4Sse>(bvh, rays, active, state);
-}
+const WideKernels<4>& bvh4Sse42Kernels() { return makeWideKernels<simd::Float4Sse, simd::Float4Sse>(); }
 
 }  // namespace obvh

@@ -302,4 +302,13 @@ bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ra
   return found;
 }
 
+// The kernel set of one vector type pair (node width FN, four-lane triangle type F4).
+template <typename FN, typename F4>
+const WideKernels<FN::kWidth>& makeWideKernels() {
+  static const WideKernels<FN::kWidth> kernels{&intersectClosestWideImpl<FN, F4>, &intersectAnyWideImpl<FN, F4>,
+                                               &intersectClosestWidePacketImpl<FN, F4>,
+                                               &intersectAnyWidePacketImpl<FN, F4>};
+  return kernels;
+}
+
 }  // namespace obvh
