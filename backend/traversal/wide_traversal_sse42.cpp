@@ -1,5 +1,17 @@
-// The SSE instantiation of the four-wide kernels (compiled with -msse4.2).
+// The SSE4.2 instantiation of the four-wide kernels, in a target region for the reason given in
+// wide_traversal_avx2.cpp.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
 #include "simd/float4_sse.h"
+#include "traversal/box_test.h"
+#include "traversal/triangle_block_leaf.h"
+#include "traversal/wide_traversal.h"
+
+#pragma GCC push_options
+#pragma GCC target("sse4.2")
+
 #include "traversal/wide_traverse.h"
 
 namespace obvh {
@@ -7,3 +19,5 @@ namespace obvh {
 const WideKernels<4>& bvh4Sse42Kernels() { return makeWideKernels<simd::Float4Sse, simd::Float4Sse>(); }
 
 }  // namespace obvh
+
+#pragma GCC pop_options

@@ -1,5 +1,7 @@
 // Generic wide-BVH traversal, templated on the node vector type (width 4 or 8) and the four-lane
-// type of the triangle-block test. Included only by the per-ISA translation units.
+// type of the triangle-block test. Included only by the per-ISA translation units, inside their
+// target region (see wide_traversal_avx2.cpp): every template here is instantiated with that
+// file's own vector type, so no other file can end up with its copy.
 #pragma once
 
 #include <cmath>
@@ -71,9 +73,9 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
 
 // Children are visited one after the other; loading the next ones' first cache lines early
 // hides part of the memory latency that dominates incoherent rays.
-template <int N>
-inline void prefetchChild(const TriangleWideView<N>& bvh, uint32_t child) {
-  using Node = WideNode<N>;
+template <typename FN>
+inline void prefetchChild(const TriangleWideView<FN::kWidth>& bvh, uint32_t child) {
+  using Node = WideNode<FN::kWidth>;
   const bool leaf = Node::isLeaf(child);
   const char* p = leaf ? reinterpret_cast<const char*>(bvh.blocks + Node::leafFirstBlock(child))
                        : reinterpret_cast<const char*>(bvh.nodes + child);
@@ -131,7 +133,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
         while (mask) {
           const int lane = __builtin_ctz(unsigned(mask));
           mask &= mask - 1;
-          prefetchChild<N>(bvh, node.child[lane]);
+          prefetchChild<FN>(bvh, node.child[lane]);
           stack[top++] = {node.child[lane], entry[lane]};
         }
         continue;
@@ -143,7 +145,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
         const int lane = __builtin_ctz(unsigned(mask));
         mask &= mask - 1;
         Entry h{node.child[lane], entry[lane]};
-        prefetchChild<N>(bvh, h.child);
+        prefetchChild<FN>(bvh, h.child);
         int k = n++;
         while (k > 0 && hits[k - 1].t > h.t) {
           hits[k] = hits[k - 1];
@@ -217,7 +219,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
         const int c = __builtin_ctz(unsigned(entered));
         entered &= entered - 1;
         Entry h{node.child[c], childRays[c], childEntry[c]};
-        prefetchChild<N>(bvh, h.child);
+        prefetchChild<FN>(bvh, h.child);
         int k = n++;
         while (kNearToFar && k > 0 && hits[k - 1].t > h.t) {
           hits[k] = hits[k - 1];
