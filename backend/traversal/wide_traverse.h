@@ -42,7 +42,7 @@ struct WideRayFrame {
 // [lower, upper] (inclusive), as in the scalar box test; the conservative far scaling is Ize's.
 template <typename FN, int N>
 inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tnear, float tfar,
-                             float entry[N]) {
+                             float entry[N], bool entryBeforeTfar = false) {
   FN nearT = FN::broadcast(tnear);
   FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
   int inside = (1 << N) - 1;
@@ -68,7 +68,9 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
   }
   farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
   nearT.store(entry);
-  return lessEqualMask(nearT, farT) & inside;
+  const int entered = lessEqualMask(nearT, farT) & inside;
+  // entryBeforeTfar: boxes entered exactly at tfar are dropped too (see traverseWide).
+  return entryBeforeTfar ? entered & lessMask(nearT, FN::broadcast(tfar)) : entered;
 }
 
 // Children are visited one after the other; loading the next ones' first cache lines early
@@ -118,10 +120,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
         break;
       }
       const Node& node = bvh.nodes[current];
-      int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry);
-      if (kNearToFar && ray.tfar < initialTfar)
-        for (int m = mask; m; m &= m - 1)
-          if (entry[__builtin_ctz(unsigned(m))] == ray.tfar) mask &= ~(1 << __builtin_ctz(unsigned(m)));
+      int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry, kNearToFar && ray.tfar < initialTfar);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
         current = node.child[__builtin_ctz(unsigned(mask))];
