@@ -51,14 +51,46 @@ inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, co
   return c;
 }
 
+// Lanes whose Moeller-Trumbore edge tests pass (intersect/moeller_triangle.h, the same operations
+// lane by lane); the distance test, which depends on tfar as it shrinks lane by lane, stays scalar.
+// Multiplying by the sign of den is written as the two sign cases, which is exact.
+template <typename F4>
+inline int moellerBlockCandidates(const TriangleBlock4& block, const Ray& ray) {
+  F4 v[3][3];
+  for (int vertex = 0; vertex < 3; ++vertex)
+    for (int axis = 0; axis < 3; ++axis) v[vertex][axis] = F4::load(block.v[vertex][axis]);
+  F4 e1[3], e2[3], C[3], d[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    e1[axis] = v[0][axis] - v[1][axis];
+    e2[axis] = v[2][axis] - v[0][axis];
+    C[axis] = v[0][axis] - F4::broadcast(ray.org[axis]);
+    d[axis] = F4::broadcast(ray.dir[axis]);
+  }
+  auto cross = [](const F4* a, const F4* b, F4* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  auto dot = [](const F4* a, const F4* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  F4 Ng[3], R[3];
+  cross(e2, e1, Ng);
+  cross(C, d, R);
+  const F4 den = dot(Ng, d);
+  const F4 U = dot(R, e2), V = dot(R, e1), sum = U + V;
+  const F4 zero = F4::broadcast(0.f);
+  const int positive = lessMask(zero, den) & lessEqualMask(zero, U) & lessEqualMask(zero, V) & lessEqualMask(sum, den);
+  const int negative = lessMask(den, zero) & lessEqualMask(U, zero) & lessEqualMask(V, zero) & lessEqualMask(den, sum);
+  return (positive | negative) & block.usedLanes();
+}
+
 // Visits each candidate lane of the block in lane order with its triangle test result; visit
 // returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
 template <typename F4, typename Visit>
 inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
                            const Ray& ray, Visit&& visit) {
   if (set.fast) {
-    for (int lane = 0; lane < 4; ++lane) {
-      if (block.geomID[lane] == TriangleBlock4::kUnusedLane) continue;
+    for (int lanes = moellerBlockCandidates<F4>(block, ray); lanes; lanes &= lanes - 1) {
+      const int lane = __builtin_ctz(unsigned(lanes));
       if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
       const StoredTriangle tri = block.triangle(lane);
       TriangleHit th;

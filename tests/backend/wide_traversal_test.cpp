@@ -147,6 +147,7 @@ TEST(WideBvh, KernelsMatchTheBinaryTreeOnATriangleSoup) {
   const test::MeshData soup = test::randomTriangleSoup(5000, 2);
   expectKernelsMatchBinaryTree<4>(soup, 6, false, 3, 3000);
   expectKernelsMatchBinaryTree<8>(soup, 6, false, 3, 3000);
+  expectKernelsMatchBinaryTree<4>(soup, 3, true, 4, 3000);  // intersector=fast: SIMD Moeller edge tests
   expectKernelsMatchBinaryTree<8>(soup, 3, true, 4, 3000);
 }
 
