@@ -1,5 +1,5 @@
 // The oriented layouts (accel=obb, accel=hybrid, with every split rule and with clustered leaf
-// frames) against Embree, ray by ray, on semiconductor stacks, a closed icosphere (rays at its
+// frames) against Embree, ray by ray, on every semiconductor-stack preset, the bunny, a closed icosphere (rays at its
 // shared edges and vertices), a triangle soup and non-planar quads.
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 #include <string>
 
 #include "crossval_harness.h"
+#include "mesh_loader.h"
 #include "stack_generator.h"
 #include "test_scenes.h"
 
@@ -33,6 +34,17 @@ TEST_P(OrientedLayouts, StackPresets) {
     const SceneData scene = tools::generateStack(tools::findStackPreset(name)->params, name).asScene();
     expectSameAnswers(name, scene, mixedRays(scene, 40000, 160, 31));
   }
+}
+
+// The large presets (up to 654k triangles) and a real mesh (the Stanford bunny from Debian's
+// glmark2-data), with fewer rays each to keep the suite short.
+TEST_P(OrientedLayouts, LargeStackPresetsAndBunny) {
+  for (const char* name : {"diagonal-42k", "axis-516k", "mixed-654k"}) {
+    const SceneData scene = tools::generateStack(tools::findStackPreset(name)->params, name).asScene();
+    expectSameAnswers(name, scene, mixedRays(scene, 12000, 90, 36));
+  }
+  const SceneData bunny = tools::loadMesh("/usr/share/glmark2/models/bunny.obj");
+  expectSameAnswers("bunny", bunny, mixedRays(bunny, 20000, 120, 37));
 }
 
 TEST_P(OrientedLayouts, ClosedMeshSoupAndQuads) {
