@@ -10,6 +10,7 @@
 #include "builders/obb_split_builder.h"
 #include "scene/primitive_collection.h"
 #include "scene/scene_accel.h"
+#include "backend_mesh_desc.h"
 #include "test_scenes.h"
 
 namespace obvh {
@@ -17,17 +18,6 @@ namespace {
 
 // Large enough for the parallel binning (2^16 primitives) and parallel recursion paths.
 test::MeshData bigSoup() { return test::randomTriangleSoup(150000, 31); }
-
-MeshDesc describe(const test::MeshData& mesh) {
-  MeshDesc desc;
-  desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
-  desc.vertexStride = 12;
-  desc.vertexCount = mesh.vertexCount();
-  desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
-  desc.indexStride = 12;
-  desc.primCount = mesh.primitiveCount();
-  return desc;
-}
 
 template <typename F>
 auto withThreads(int threads, F&& f) {
@@ -53,7 +43,7 @@ void expectSameTree(const BinaryBvh& a, uint32_t ia, const BinaryBvh& b, uint32_
 
 TEST(BuildDeterminism, BinnedSahTreeIsTheSameOnOneAndTwoThreads) {
   const test::MeshData soup = bigSoup();
-  const CollectedPrimitives collected = collectPrimitives({describe(soup)});
+  const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
   const BuildOptions options;
   const BinaryBvh one = withThreads(1, [&] {
     std::vector<PrimRef> refs = collected.refs;
@@ -69,7 +59,7 @@ TEST(BuildDeterminism, BinnedSahTreeIsTheSameOnOneAndTwoThreads) {
 
 TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
   const test::MeshData soup = bigSoup();
-  const CollectedPrimitives collected = collectPrimitives({describe(soup)});
+  const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
   const BuildOptions options;
   const BinaryBvh one = withThreads(1, [&] {
     std::vector<PrimRef> refs = collected.refs;
@@ -87,7 +77,7 @@ TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
 TEST(BuildDeterminism, HitsAreTheSameOnOneAndTwoThreadsInEveryLayout) {
   const test::MeshData soup = bigSoup();
   SceneDesc desc;
-  desc.meshes = {describe(soup)};
+  desc.meshes = {tools::backendMeshDesc(soup)};
   desc.geometryIdLimit = 1;
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(-0.5f, 1.5f);

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "scene/scene_accel.h"
+#include "backend_mesh_desc.h"
 #include "test_scenes.h"
 
 namespace obvh {
@@ -18,18 +19,8 @@ struct Animated {
   SceneDesc desc;
 
   Animated() {
-    for (const test::MeshData* mesh : {&soup, &grid}) {
-      MeshDesc m;
-      m.vertices = reinterpret_cast<const unsigned char*>(mesh->vertices.data());
-      m.vertexStride = 12;
-      m.vertexCount = mesh->vertexCount();
-      m.indices = reinterpret_cast<const unsigned char*>(mesh->indices.data());
-      m.indexStride = mesh->quads ? 16 : 12;
-      m.primCount = mesh->primitiveCount();
-      m.quads = mesh->quads;
-      m.geomID = uint32_t(desc.meshes.size());
-      desc.meshes.push_back(m);
-    }
+    for (const test::MeshData* mesh : {&soup, &grid})
+      desc.meshes.push_back(tools::backendMeshDesc(*mesh, uint32_t(desc.meshes.size())));
     desc.geometryIdLimit = 2;
   }
   // A non-rigid motion: every vertex moves differently, so boxes change shape and overlap.

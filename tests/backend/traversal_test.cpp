@@ -8,6 +8,7 @@
 
 #include "intersect/watertight_triangle.h"
 #include "scene/scene_accel.h"
+#include "backend_mesh_desc.h"
 #include "test_scenes.h"
 #include "traversal/box_test.h"
 
@@ -20,16 +21,8 @@ struct Scene {
   QueryState state;
 
   explicit Scene(test::MeshData m) : mesh(std::move(m)) {
-    MeshDesc desc;
-    desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
-    desc.vertexStride = 3 * sizeof(float);
-    desc.vertexCount = mesh.vertexCount();
-    desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
-    desc.indexStride = (mesh.quads ? 4 : 3) * sizeof(uint32_t);
-    desc.primCount = mesh.primitiveCount();
-    desc.quads = mesh.quads;
     SceneDesc scene;
-    scene.meshes = {desc};
+    scene.meshes = {tools::backendMeshDesc(mesh)};
     scene.geometryIdLimit = 1;
     accel.build(scene, BuildOptions{});
   }

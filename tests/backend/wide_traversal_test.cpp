@@ -11,6 +11,7 @@
 #include "bvh/wide_bvh.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
+#include "backend_mesh_desc.h"
 #include "test_scenes.h"
 #include "traversal/bvh2_traversal.h"
 #include "traversal/wide_traversal.h"
@@ -29,15 +30,7 @@ struct Layouts {
   TriangleWideView<N> view;
 
   Layouts(const test::MeshData& mesh, int maxLeafSize, bool fast = false) {
-    MeshDesc desc;
-    desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
-    desc.vertexStride = 12;
-    desc.vertexCount = mesh.vertexCount();
-    desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
-    desc.indexStride = mesh.quads ? 16 : 12;
-    desc.primCount = mesh.primitiveCount();
-    desc.quads = mesh.quads;
-    collected = collectPrimitives({desc});
+    collected = collectPrimitives({tools::backendMeshDesc(mesh)});
     BuildOptions options;
     options.maxLeafSize = maxLeafSize;
     binary = buildBinnedSah(collected.refs, options);

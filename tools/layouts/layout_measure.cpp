@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "image_io.h"
+#include "backend_mesh_desc.h"
 #include "scene/scene_accel.h"
 #include "trace_timing.h"
 
@@ -15,19 +16,7 @@ namespace {
 
 SceneDesc describe(const SceneData& scene) {
   SceneDesc desc;
-  for (size_t g = 0; g < scene.meshes.size(); ++g) {
-    const MeshData& mesh = scene.meshes[g];
-    MeshDesc m;
-    m.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
-    m.vertexStride = 3 * sizeof(float);
-    m.vertexCount = mesh.vertexCount();
-    m.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
-    m.quads = mesh.quads;
-    m.indexStride = (mesh.quads ? 4 : 3) * sizeof(uint32_t);
-    m.primCount = mesh.primitiveCount();
-    m.geomID = uint32_t(g);
-    desc.meshes.push_back(m);
-  }
+  for (size_t g = 0; g < scene.meshes.size(); ++g) desc.meshes.push_back(backendMeshDesc(scene.meshes[g], uint32_t(g)));
   desc.geometryIdLimit = uint32_t(scene.meshes.size());
   return desc;
 }
