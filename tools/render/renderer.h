@@ -1,0 +1,29 @@
+// Renders one frame: camera rays per pixel (the pixel centre at one sample per pixel, jittered
+// samples otherwise), radiance from the Integrator, rows in parallel with TBB.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "integrator.h"
+#include "view_camera.h"
+
+namespace obvh::render {
+
+struct FrameSettings {
+  int width = 640, height = 480;
+  int samplesPerPixel = 1;
+  uint64_t frame = 0;  // seeds the samplers, so animated frames do not repeat their noise
+  bool progress = true;
+};
+
+struct Frame {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // linear radiance, width * height * 3, top row first
+  uint64_t rays = 0;       // queries sent to the library
+  double seconds = 0.0;
+};
+
+Frame renderFrame(const Integrator& integrator, const ViewCamera& camera, const FrameSettings& settings);
+
+}  // namespace obvh::render
