@@ -74,8 +74,8 @@ void alpha(GltfBuilder& b) {
   b.addCamera({0.5f, 2.2f, 4.8f}, {0.2f, 0.7f, -0.6f}, 0.8);
 }
 
-// Vertical emissive strips behind a glass prism: seen through the prism, every strip is spread
-// into a spectrum (violet bent most), seen directly it stays white.
+// Vertical emissive strips behind a glass prism standing on a floor: seen through the prism, every
+// strip is spread into a spectrum (violet bent most), seen directly it stays white.
 void prism(GltfBuilder& b) {
   GltfMaterialDesc strip;
   strip.name = "white strip";
@@ -110,7 +110,8 @@ void prism(GltfBuilder& b) {
   body.triangle(top[0], top[2], top[1]);
   body.triangle(bottom[0], bottom[1], bottom[2]);
   b.addNode("prism", b.addMesh("prism", body, b.addMaterial(glass)), {0.f, 0.f, -2.5f});
-  b.addLight("directional", {1.f, 1.f, 1.f}, 0.2, {0.f, 3.f, 0.f}, aboutX(-1.2f));
+  b.addNode("floor", floorMesh(b, 8.f), {0.f, -h - 0.02f, -2.f});  // not coplanar with the prism's base
+  b.addLight("directional", {1.f, 1.f, 1.f}, 0.6, {0.f, 3.f, 0.f}, {-0.5f, 0.2f, 0.1f, 0.835f});
   b.addCamera({0.f, 0.f, 1.5f}, {0.f, 0.f, -6.f}, 0.9);
 }
 

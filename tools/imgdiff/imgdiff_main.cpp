@@ -1,36 +1,13 @@
-// obvh_imgdiff: compares two images pixel by pixel (any format OpenImageIO reads, e.g. PPM or PNG).
-// Prints how many pixels differ by more than a tolerance and exits 1 when more than allowed do.
-#include <OpenImageIO/imageio.h>
-
-#include <algorithm>
-#include <cmath>
+// obvh_imgdiff: compares two images pixel by pixel (any format OpenImageIO reads: PNG, EXR, PPM...).
+// Reports the largest and mean per-channel difference, PSNR and how many pixels differ by more
+// than a tolerance; exits 1 when more pixels differ than allowed, 2 when an image cannot be read.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <vector>
+
+#include "image_compare.h"
 
 namespace {
-
-struct Image {
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> pixels;
-};
-
-bool load(const std::string& path, Image& image) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    std::fprintf(stderr, "obvh_imgdiff: cannot open '%s': %s\n", path.c_str(), OIIO::geterror().c_str());
-    return false;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  image.width = spec.width, image.height = spec.height, image.channels = spec.nchannels;
-  image.pixels.resize(size_t(image.width) * image.height * image.channels);
-  if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    std::fprintf(stderr, "obvh_imgdiff: cannot read '%s': %s\n", path.c_str(), in->geterror().c_str());
-    return false;
-  }
-  return true;
-}
 
 [[noreturn]] void usage() {
   std::fprintf(stderr,
@@ -55,24 +32,20 @@ int main(int argc, char** argv) {
     else usage();
     if (*end != '\0' || tolerance < 0 || maxDiffering < 0) usage();
   }
-  Image a, b;
-  if (!load(argv[1], a) || !load(argv[2], b)) return 2;
+  obvh::tools::Image a, b;
+  std::string error;
+  if (!obvh::tools::readImage(argv[1], a, error) || !obvh::tools::readImage(argv[2], b, error)) {
+    std::fprintf(stderr, "obvh_imgdiff: %s\n", error.c_str());
+    return 2;
+  }
   if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
     std::fprintf(stderr, "obvh_imgdiff: sizes differ: %dx%dx%d vs %dx%dx%d\n", a.width, a.height, a.channels, b.width,
                  b.height, b.channels);
     return 1;
   }
-  long differing = 0;
-  double largest = 0.0;
-  const size_t pixelCount = size_t(a.width) * a.height;
-  for (size_t p = 0; p < pixelCount; ++p) {
-    double d = 0.0;
-    for (int c = 0; c < a.channels; ++c)
-      d = std::max(d, double(std::fabs(a.pixels[p * a.channels + c] - b.pixels[p * a.channels + c])));
-    largest = std::max(largest, d);
-    if (d > tolerance) ++differing;
-  }
-  std::printf("obvh_imgdiff: %ld of %zu pixels differ by more than %g (largest difference %g); %ld allowed\n",
-              differing, pixelCount, tolerance, largest, maxDiffering);
-  return differing <= maxDiffering ? 0 : 1;
+  const obvh::tools::ImageDifference d = obvh::tools::compareImages(a, b, tolerance);
+  std::printf("obvh_imgdiff: %zu of %zu pixels differ by more than %g; max error %g, mean error %.3g, PSNR %s dB; %ld allowed\n",
+              d.differingPixels, d.pixels, tolerance, d.maxError, d.meanError,
+              d.psnr == obvh::tools::kIdenticalPsnr ? "inf" : std::to_string(d.psnr).substr(0, 6).c_str(), maxDiffering);
+  return long(d.differingPixels) <= maxDiffering ? 0 : 1;
 }

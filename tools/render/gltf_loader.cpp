@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "gltf_schema_check.h"
 #include "scene_loader.h"
 
 namespace obvh::render {
@@ -36,7 +37,6 @@ class GltfReader {
   // The accessor's raw element bytes, after checking that every element lies inside its buffer.
   const unsigned char* elementBytes(const tinygltf::Accessor& accessor, int index, size_t& stride, const std::string& user) const;
 
-  void checkExtensions() const;
   Primitive readPrimitive(const tinygltf::Primitive& in, const std::string& user, RenderScene& scene) const;
   Material readMaterial(const tinygltf::Material& in, RenderScene& scene) const;
   Texture readTexture(int textureIndex, const std::string& user) const;
@@ -128,16 +128,6 @@ std::vector<uint32_t> GltfReader::readIndices(int index, const std::string& user
     }
   }
   return out;
-}
-
-void GltfReader::checkExtensions() const {
-  static const std::set<std::string> understood = {
-      "KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_dispersion",
-      "KHR_materials_emissive_strength", "KHR_materials_volume", "KHR_materials_specular", "KHR_texture_transform",
-      "KHR_materials_unlit", "KHR_mesh_quantization"};
-  for (const std::string& required : model_.extensionsRequired)
-    if (!understood.count(required))
-      fail("requires extension " + required + ", which obvh's renderer does not read");
 }
 
 Texture GltfReader::readTexture(int textureIndex, const std::string& user) const {
@@ -363,7 +353,6 @@ void GltfReader::readAnimations(RenderScene& scene) const {
 }
 
 RenderScene GltfReader::read() {
-  checkExtensions();
   RenderScene scene;
   scene.name = path_.substr(path_.find_last_of('/') + 1);
   for (const tinygltf::Material& material : model_.materials) scene.materials.push_back(readMaterial(material, scene));
@@ -408,6 +397,7 @@ RenderScene GltfReader::read() {
 }  // namespace
 
 RenderScene loadGltfScene(const std::string& path) {
+  checkGltfJsonTypes(path);
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warning;

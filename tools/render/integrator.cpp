@@ -60,8 +60,10 @@ bool Integrator::intersect(Vec3 org, Vec3 dir, float tnear, RTCRayHit& rayhit, u
   rayhit = makeRayHit(org, dir, tnear, kInfinity);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  const RTCRayHit query = rayhit;
   lib_.rtcIntersect1(committed_.handle(), &context, &rayhit);
   ++rays;
+  if (log_) log_->push_back({false, query, rayhit});
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
@@ -70,8 +72,10 @@ float Integrator::transmittance(Vec3 org, Vec3 dir, float distance, uint64_t& ra
     RTCRayHit r = makeRayHit(org, dir, 0.f, distance);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    const RTCRayHit query = r;
     lib_.rtcOccluded1(committed_.handle(), &context, &r.ray);
     ++rays;
+    if (log_) log_->push_back({true, query, r});
     return r.ray.tfar < 0.f ? 0.f : 1.f;  // Embree marks an occluded ray with tfar = -inf
   }
   // Through alpha layers, nearest first.
@@ -80,8 +84,10 @@ float Integrator::transmittance(Vec3 org, Vec3 dir, float distance, uint64_t& ra
     RTCRayHit r = makeRayHit(org, dir, 0.f, distance);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    const RTCRayHit query = r;
     lib_.rtcIntersect1(committed_.handle(), &context, &r);
     ++rays;
+    if (log_) log_->push_back({false, query, r});
     if (r.hit.geomID == RTC_INVALID_GEOMETRY_ID) return through;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     through *= 1.f - effectiveAlpha(s);

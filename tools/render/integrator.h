@@ -8,6 +8,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "committed_scene.h"
 #include "effects.h"
@@ -16,6 +17,14 @@
 #include "sampler.h"
 
 namespace obvh::render {
+
+// One query the integrator sent, with the library's answer (for replaying a pixel in the render
+// cross-validation).
+struct LoggedQuery {
+  bool occlusion = false;
+  RTCRayHit query{};   // as sent
+  RTCRayHit answer{};  // as returned (occlusion: only the ray, tfar = -inf when occluded)
+};
 
 struct IntegratorSettings {
   int maxDepth = 8;          // path vertices per path
@@ -36,6 +45,9 @@ class Integrator {
   // punctual lights; otherwise a dim background.
   float environment() const { return environment_; }
 
+  // Appends every query and answer to `log` (nullptr stops). Only for single-threaded replays.
+  void recordQueries(std::vector<LoggedQuery>* log) { log_ = log; }
+
  private:
   bool intersect(Vec3 org, Vec3 dir, float tnear, RTCRayHit& rayhit, uint64_t& rays) const;
   // Fraction of light arriving along the segment (1 free, 0 blocked); partial through alpha layers.
@@ -52,6 +64,7 @@ class Integrator {
   EffectPlan plan_;
   IntegratorSettings settings_;
   float environment_ = 0.f;
+  std::vector<LoggedQuery>* log_ = nullptr;
 };
 
 }  // namespace obvh::render

@@ -10,6 +10,22 @@
 
 namespace obvh::render {
 
+Vec3 renderPixel(const Integrator& integrator, const ViewCamera& camera, const FrameSettings& settings, int x, int y,
+                 uint64_t& rays) {
+  const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
+  Vec3 sum{0.f};
+  for (int s = 0; s < settings.samplesPerPixel; ++s) {
+    Sampler sampler(pixel, uint64_t(s), settings.frame);
+    float px = float(x) + 0.5f, py = float(y) + 0.5f;
+    if (settings.samplesPerPixel > 1) px = float(x) + sampler.next1D(), py = float(y) + sampler.next1D();
+    Vec3 org, dir;
+    camera.ray(px, py, settings.width, settings.height, org, dir);
+    const float spectralU = (float(s) + sampler.next1D()) / float(settings.samplesPerPixel);
+    sum += integrator.radiance(org, dir, sampler, spectralU, rays);
+  }
+  return sum / float(settings.samplesPerPixel);
+}
+
 Frame renderFrame(const Integrator& integrator, const ViewCamera& camera, const FrameSettings& settings) {
   Frame frame;
   frame.width = settings.width, frame.height = settings.height;
@@ -21,19 +37,8 @@ Frame renderFrame(const Integrator& integrator, const ViewCamera& camera, const 
     uint64_t& count = rays.local();
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < settings.width; ++x) {
-        const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
-        Vec3 sum{0.f};
-        for (int s = 0; s < settings.samplesPerPixel; ++s) {
-          Sampler sampler(pixel, uint64_t(s), settings.frame);
-          float px = float(x) + 0.5f, py = float(y) + 0.5f;
-          if (settings.samplesPerPixel > 1) px = float(x) + sampler.next1D(), py = float(y) + sampler.next1D();
-          Vec3 org, dir;
-          camera.ray(px, py, settings.width, settings.height, org, dir);
-          const float spectralU = (float(s) + sampler.next1D()) / float(settings.samplesPerPixel);
-          sum += integrator.radiance(org, dir, sampler, spectralU, count);
-        }
-        const Vec3 mean = sum / float(settings.samplesPerPixel);
-        float* out = &frame.rgb[pixel * 3];
+        const Vec3 mean = renderPixel(integrator, camera, settings, x, y, count);
+        float* out = &frame.rgb[(size_t(y) * size_t(settings.width) + size_t(x)) * 3];
         out[0] = mean.x, out[1] = mean.y, out[2] = mean.z;
       }
       progress.advance();

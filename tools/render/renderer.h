@@ -24,6 +24,10 @@ struct Frame {
   double seconds = 0.0;
 };
 
+// The mean of one pixel's samples (what renderFrame stores for it).
+Vec3 renderPixel(const Integrator& integrator, const ViewCamera& camera, const FrameSettings& settings, int x, int y,
+                 uint64_t& rays);
+
 Frame renderFrame(const Integrator& integrator, const ViewCamera& camera, const FrameSettings& settings);
 
 }  // namespace obvh::render

@@ -5,6 +5,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 "$root/tools/setup/install_deps.sh"
 "$root/tools/setup/build.sh"
+"$root/tools/setup/fetch_render_assets.sh" > /dev/null
 
 # Suites that load Debian's Embree next to obvh (dlopen with RTLD_DEEPBIND) cannot run under ASan.
 echo "obvh: API, numerics and backend suites under ASan + UBSan"
