@@ -1,4 +1,5 @@
 #include "query_dispatch.h"
+#include "traversal_statistics_state.h"
 
 #include <algorithm>
 #include <limits>
@@ -58,6 +59,7 @@ QueryDispatch::QueryDispatch(const Scene& scene, RTCIntersectContext& context)
   // Most scenes have no filters and no user geometry; their queries never leave the backend.
   if (scene.needsCallbacks() || state_.contextFilter) state_.callbacks = this;
   state_.instID = context.instID[0];
+  state_.counters = threadTraversalCounters();
 }
 
 RTCRay QueryDispatch::embreeRay(const Ray& ray, float tfar) const {

@@ -296,7 +296,10 @@ bool SceneAccel::occludedObjects(const Ray& ray, const QueryState& state) const 
   return found;
 }
 
-bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
+bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& queryState, TraversalCounters* counters) const {
+  QueryState state = queryState;
+  if (counters) state.counters = counters;
+  counters = state.counters;
   bool found = false;
   if (layout_ == AccelLayout::Bvh4)
     found = !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
@@ -309,7 +312,10 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
   return intersectObjects(ray, hit, state) || found;
 }
 
-bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters) const {
+bool SceneAccel::occluded(const Ray& ray, const QueryState& queryState, TraversalCounters* counters) const {
+  QueryState state = queryState;
+  if (counters) state.counters = counters;
+  counters = state.counters;
   if (layout_ == AccelLayout::Bvh4) {
     if (!triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh8) {

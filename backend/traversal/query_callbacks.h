@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "intersect/ray.h"
+#include "traversal/traversal_counters.h"
 
 namespace obvh {
 
@@ -29,6 +30,9 @@ struct QueryState {
   bool contextFilter = false;          // call the filter for every geometry (Embree's context filter)
   uint32_t instID = kInvalidId;        // the instance being traversed, written to hits
   int instanceLevel = 0;
+  // When set, single-ray traversals count their box tests and leaf visits here (heatmaps); also
+  // inside instances. Null on the normal query path.
+  TraversalCounters* counters = nullptr;
 };
 
 }  // namespace obvh

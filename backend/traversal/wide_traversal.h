@@ -40,6 +40,9 @@ struct WideKernels {
   uint32_t (*closestPacket)(const TriangleWideView<N>& bvh, Ray* rays, Hit* hits, uint32_t active,
                             const QueryState& state);
   uint32_t (*anyPacket)(const TriangleWideView<N>& bvh, const Ray* rays, uint32_t active, const QueryState& state);
+  // closest and any, adding their box tests and leaf visits to *state.counters (must be set).
+  bool (*closestCounted)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
+  bool (*anyCounted)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
 };
 
 // Defined in wide_traversal_<isa>.cpp, each compiled for its instruction set.
@@ -54,16 +57,19 @@ const WideKernels<N>& wideKernels(KernelIsa isa) {
   else return isa == KernelIsa::Simd ? bvh8Avx2Kernels() : bvh8ScalarKernels();
 }
 
+// Both count into state.counters when it is set.
 template <int N>
 bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state,
                           KernelIsa isa = bestKernelIsa(N)) {
-  return wideKernels<N>(isa).closest(bvh, ray, hit, state);
+  const WideKernels<N>& k = wideKernels<N>(isa);
+  return state.counters ? k.closestCounted(bvh, ray, hit, state) : k.closest(bvh, ray, hit, state);
 }
 
 template <int N>
 bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state,
                       KernelIsa isa = bestKernelIsa(N)) {
-  return wideKernels<N>(isa).any(bvh, ray, state);
+  const WideKernels<N>& k = wideKernels<N>(isa);
+  return state.counters ? k.anyCounted(bvh, ray, state) : k.any(bvh, ray, state);
 }
 
 template <int N>

@@ -86,13 +86,16 @@ inline void prefetchChild(const TriangleWideView<FN::kWidth>& bvh, uint32_t chil
 }
 
 // Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
-// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop.
-template <typename FN, bool kNearToFar, typename LeafVisitor>
-void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor) {
+// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop. kCounted adds box tests
+// and leaf visits to *counters (a separate instantiation, so the normal path pays nothing).
+template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
+void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor,
+                  TraversalCounters* counters = nullptr) {
   constexpr int N = FN::kWidth;
   using Node = WideNode<N>;
   if (bvh.empty()) return;
   if (Node::isLeaf(bvh.root)) {
+    if constexpr (kCounted) ++counters->leafVisits;
     leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
     return;
   }
@@ -116,10 +119,12 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
     uint32_t current = e.child;
     for (;;) {
       if (Node::isLeaf(current)) {
+        if constexpr (kCounted) ++counters->leafVisits;
         if (leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current))) return;
         break;
       }
       const Node& node = bvh.nodes[current];
+      if constexpr (kCounted) counters->aabbTests += N;
       int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry, kNearToFar && ray.tfar < initialTfar);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
@@ -281,25 +286,25 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
   return occluded;
 }
 
-template <typename FN, typename F4>
+template <typename FN, typename F4, bool kCounted = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
   const WatertightRay wr(ray);
   bool found = false;
-  traverseWide<FN, true>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
-  });
+  }, state.counters);
   return found;
 }
 
-template <typename FN, typename F4>
+template <typename FN, typename F4, bool kCounted = false>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
   const WatertightRay wr(ray);
   bool found = false;
-  traverseWide<FN, false>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
     return found;
-  });
+  }, state.counters);
   return found;
 }
 
@@ -308,7 +313,9 @@ template <typename FN, typename F4>
 const WideKernels<FN::kWidth>& makeWideKernels() {
   static const WideKernels<FN::kWidth> kernels{&intersectClosestWideImpl<FN, F4>, &intersectAnyWideImpl<FN, F4>,
                                                &intersectClosestWidePacketImpl<FN, F4>,
-                                               &intersectAnyWidePacketImpl<FN, F4>};
+                                               &intersectAnyWidePacketImpl<FN, F4>,
+                                               &intersectClosestWideImpl<FN, F4, true>,
+                                               &intersectAnyWideImpl<FN, F4, true>};
   return kernels;
 }
 

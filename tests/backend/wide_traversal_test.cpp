@@ -257,6 +257,43 @@ void expectNanRaysHitNothing() {
   }
 }
 
+// The counted kernels (heatmaps) answer exactly like the normal ones and count every node they
+// test: a ray that hits tests at least the root's boxes and visits a leaf.
+template <int N>
+void expectCountedKernelsAnswerTheSame() {
+  Layouts<N> l(test::randomTriangleSoup(4000, 8), 4);
+  for (KernelIsa isa : {KernelIsa::Scalar, bestKernelIsa(N)}) {
+    uint64_t totalTests = 0;
+    for (const Ray& ray : testRays(9, 3000)) {
+      TraversalCounters counters;
+      QueryState counted;
+      counted.counters = &counters;
+      const QueryState plain;
+      Ray a = ray, b = ray;
+      Hit ha, hb;
+      const bool found = intersectClosestWide(l.view, a, ha, plain, isa);
+      ASSERT_EQ(intersectClosestWide(l.view, b, hb, counted, isa), found);
+      EXPECT_EQ(a.tfar, b.tfar);
+      EXPECT_EQ(ha.primID, hb.primID);
+      if (found) {
+        EXPECT_GE(counters.aabbTests, uint64_t(N));
+        EXPECT_EQ(counters.aabbTests % N, 0u);
+        EXPECT_GE(counters.leafVisits, 1u);
+      }
+      totalTests += counters.aabbTests;
+      TraversalCounters anyCounters;
+      counted.counters = &anyCounters;
+      EXPECT_EQ(intersectAnyWide(l.view, ray, counted, isa), intersectAnyWide(l.view, ray, plain, isa));
+    }
+    EXPECT_GT(totalTests, 3000u * N);
+  }
+}
+
+TEST(WideBvh, CountedKernelsAnswerTheSame) {
+  expectCountedKernelsAnswerTheSame<4>();
+  expectCountedKernelsAnswerTheSame<8>();
+}
+
 TEST(WideBvh, NanRaysHitNothing) {
   expectNanRaysHitNothing<4>();
   expectNanRaysHitNothing<8>();

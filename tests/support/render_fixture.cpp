@@ -45,6 +45,7 @@ RenderResult renderScene(const tools::RtcLibrary& lib, RTCDevice device, const r
   settings.samplesPerPixel = request.samplesPerPixel > 0 ? request.samplesPerPixel
                                                          : (result.plan.dispersion ? 64 : result.plan.pathTracing ? 16 : 1);
   settings.progress = false;
+  settings.heatmap = request.heatmap;
   std::string description;
   const ViewCamera camera = chooseCamera(scene, pose, 0, Projection::FromScene, settings.width, settings.height, description);
   const Integrator integrator(lib, committed, scene, pose, result.plan, IntegratorSettings{});

@@ -24,6 +24,7 @@ struct RenderRequest {
   std::set<render::Effect> disabled;
   int width = 160, height = 120;
   int samplesPerPixel = 0;  // 0: as obvh_render picks (1; 16 path tracing; 64 dispersion)
+  bool heatmap = false;
 };
 
 struct RenderResult {

@@ -134,5 +134,39 @@ TEST(RenderEffects, PrismSpreadsWhiteLightIntoASpectrum) {
   EXPECT_LT(saturatedWithout, 20u);
 }
 
+// --heatmap: obvh counts the bounding-volume tests of every pixel's rays; Embree cannot, and says so.
+TEST(RenderHeatmap, CountsBoundingVolumeTestsOnObvhAndRefusesEmbree) {
+  const render::RenderScene bunny = render::loadRenderScene("/usr/share/glmark2/models/bunny.obj");
+  RenderRequest request;
+  request.heatmap = true;
+  const render::Frame frame = renderScene(obvhLibrary(), obvhDevice(), bunny, request).frame;
+  ASSERT_EQ(frame.volumeTests.size(), size_t(request.width) * size_t(request.height));
+  // Pixels showing the bunny traverse deeper than background pixels, which mostly stop at the root.
+  const float background = frame.rgb[0];
+  double onBunny = 0, offBunny = 0;
+  size_t bunnyPixels = 0;
+  for (size_t p = 0; p < frame.volumeTests.size(); ++p) {
+    if (frame.rgb[3 * p] != background) onBunny += frame.volumeTests[p], ++bunnyPixels;
+    else offBunny += frame.volumeTests[p];
+  }
+  ASSERT_GT(bunnyPixels, 1000u);
+  const double meanOn = onBunny / double(bunnyPixels), meanOff = offBunny / double(frame.volumeTests.size() - bunnyPixels);
+  std::printf("[heatmap] bunny: %.1f tests per bunny pixel, %.1f per background pixel\n", meanOn, meanOff);
+  EXPECT_GT(meanOn, 16.0);
+  EXPECT_GT(meanOn, 2.0 * meanOff);
+
+  std::string error;
+  auto embree = tools::RtcLibrary::open(tools::referenceEmbreePath(), "embree", error);
+  ASSERT_TRUE(embree) << error;
+  RTCDevice device = embree->rtcNewDevice("isa=avx2");
+  try {
+    renderScene(*embree, device, bunny, request);
+    ADD_FAILURE() << "a heatmap through Embree should be refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not count bounding-volume tests"), std::string::npos) << e.what();
+  }
+  embree->rtcReleaseDevice(device);
+}
+
 }  // namespace
 }  // namespace obvh::test

@@ -27,6 +27,12 @@ std::unique_ptr<RtcLibrary> RtcLibrary::open(const std::string& path, const std:
   }
   OBVH_RTC_FUNCTIONS(OBVH_LOAD_POINTER)
 #undef OBVH_LOAD_POINTER
+  lib->obvhEnableTraversalStatistics =
+      reinterpret_cast<decltype(&::obvhEnableTraversalStatistics)>(dlsym(handle, "obvhEnableTraversalStatistics"));
+  lib->obvhTakeTraversalStatistics =
+      reinterpret_cast<decltype(&::obvhTakeTraversalStatistics)>(dlsym(handle, "obvhTakeTraversalStatistics"));
+  if (!lib->obvhEnableTraversalStatistics || !lib->obvhTakeTraversalStatistics)
+    lib->obvhEnableTraversalStatistics = nullptr, lib->obvhTakeTraversalStatistics = nullptr;
   return lib;
 }
 

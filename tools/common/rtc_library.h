@@ -4,6 +4,7 @@
 #pragma once
 
 #include <embree3/rtcore.h>
+#include <obvh/traversal_statistics.h>
 
 #include <memory>
 #include <string>
@@ -117,6 +118,10 @@ struct RtcLibrary {
 #define OBVH_DECLARE_POINTER(name) decltype(&::name) name = nullptr;
   OBVH_RTC_FUNCTIONS(OBVH_DECLARE_POINTER)
 #undef OBVH_DECLARE_POINTER
+
+  // obvh's own extensions; null when the library does not have them (Debian's Embree).
+  decltype(&::obvhEnableTraversalStatistics) obvhEnableTraversalStatistics = nullptr;
+  decltype(&::obvhTakeTraversalStatistics) obvhTakeTraversalStatistics = nullptr;
 
   std::string path;
   std::string label;  // short name for reports, e.g. "embree" or "obvh"

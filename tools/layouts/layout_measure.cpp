@@ -1,5 +1,7 @@
 #include "layout_measure.h"
 
+#include "heatmap.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -91,16 +93,7 @@ LayoutMeasure measureLayout(const SceneData& scene, const LayoutConfig& config, 
 }
 
 void writeHeatmap(const std::string& path, const View& view, const std::vector<float>& testsPerPixel) {
-  // Piecewise-linear ramp: dark blue, blue, red, yellow, white.
-  static const float ramp[5][3] = {{0.f, 0.f, 0.15f}, {0.1f, 0.2f, 0.9f}, {0.9f, 0.1f, 0.1f}, {1.f, 0.9f, 0.1f}, {1.f, 1.f, 1.f}};
-  std::vector<float> rgb(testsPerPixel.size() * 3);
-  for (size_t i = 0; i < testsPerPixel.size(); ++i) {
-    const float x = std::clamp(std::log(std::max(testsPerPixel[i], 1.f)) / std::log(256.f), 0.f, 1.f) * 4.f;
-    const int k = std::min(int(x), 3);
-    const float f = x - float(k);
-    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = ramp[k][c] * (1.f - f) + ramp[k + 1][c] * f;
-  }
-  writeImage(path, view.width, view.height, rgb);
+  writeHeatmap(path, view.width, view.height, testsPerPixel);
 }
 
 }  // namespace obvh::tools

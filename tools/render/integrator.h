@@ -45,6 +45,8 @@ class Integrator {
   // punctual lights; otherwise a dim background.
   float environment() const { return environment_; }
 
+  const tools::RtcLibrary& library() const { return lib_; }
+
   // Appends every query and answer to `log` (nullptr stops). Only for single-threaded replays.
   void recordQueries(std::vector<LoggedQuery>* log) { log_ = log; }
 

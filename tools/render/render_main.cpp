@@ -14,6 +14,7 @@
 #include "committed_scene.h"
 #include "effects.h"
 #include "frame_output.h"
+#include "heatmap.h"
 #include "integrator.h"
 #include "renderer.h"
 #include "rtc_library.h"
@@ -36,6 +37,7 @@ struct Options {
   int frames = 1;
   std::set<Effect> disabled;
   bool quiet = false;
+  std::string heatmap;
 };
 
 [[noreturn]] void usage(const std::string& error) {
@@ -54,6 +56,8 @@ struct Options {
                "  --exposure EV                      stops applied before display encoding (default 0)\n"
                "  --disable E1,E2                    turn off effects: shadows, transparency, path-tracing,\n"
                "                                     dispersion, animation\n"
+               "  --heatmap FILE.png                 also write bounding-volume tests per pixel (log scale 1..256;\n"
+               "                                     obvh only: Embree does not count them)\n"
                "  --quiet                            no progress bar\n");
   std::exit(error.empty() ? 0 : 2);
 }
@@ -78,6 +82,7 @@ Options parse(int argc, char** argv) {
     if (arg.rfind("-", 0) == 0 && !flag && i + 1 >= argc) usage(arg + " needs a value");
     if (arg == "-o" || arg == "--output") o.output = argv[++i];
     else if (arg == "--library") o.library = argv[++i];
+    else if (arg == "--heatmap") o.heatmap = argv[++i];
     else if (arg == "--width") o.frame.width = int(number(arg, argv[++i], 1, 16384));
     else if (arg == "--height") o.frame.height = int(number(arg, argv[++i], 1, 16384));
     else if (arg == "--spp") o.spp = int(number(arg, argv[++i], 1, 65536));
@@ -163,6 +168,7 @@ int main(int argc, char** argv) {
     FrameSettings frame = o.frame;
     frame.samplesPerPixel = o.spp > 0 ? o.spp : (plan.dispersion ? 64 : plan.pathTracing ? 16 : 1);
     frame.progress = !o.quiet;
+    frame.heatmap = !o.heatmap.empty();
     IntegratorSettings settings;
     settings.maxDepth = o.maxDepth;
     std::string cameraDescription;
@@ -190,6 +196,14 @@ int main(int argc, char** argv) {
       const std::string path = framePath(o.output, f, frames);
       if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) std::filesystem::create_directories(parent);
       writeFrame(path, image, o.exposure);
+      if (frame.heatmap) {
+        const std::string heatPath = framePath(o.heatmap, f, frames);
+        tools::writeHeatmap(heatPath, image.width, image.height, image.volumeTests);
+        double total = 0.0;
+        for (float v : image.volumeTests) total += v;
+        std::printf("heatmap: %s, %.1f bounding-volume tests per pixel on average\n", heatPath.c_str(),
+                    total / double(image.volumeTests.size()));
+      }
       if (frames == 1 || f == frames - 1) std::printf("wrote %s%s\n", path.c_str(), frames > 1 ? " (and the frames before it)" : "");
     }
     std::printf("time: load %.1f ms, build %.1f ms%s, render %.2f s (%d frame%s), %.2f Mrays/s (%llu rays)\n",
