@@ -176,6 +176,8 @@ Material GltfReader::readMaterial(const tinygltf::Material& in, RenderScene& sce
     if (in.pbrMetallicRoughness.baseColorTexture.texCoord != 0)
       scene.warnings.push_back("material '" + m.name + "': base colour texture uses TEXCOORD_" +
                                std::to_string(in.pbrMetallicRoughness.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
+    if (in.pbrMetallicRoughness.baseColorTexture.extensions.count("KHR_texture_transform"))
+      scene.warnings.push_back("material '" + m.name + "': KHR_texture_transform is not applied");
     m.baseColorTexture = int(scene.textures.size());
     scene.textures.push_back(readTexture(in.pbrMetallicRoughness.baseColorTexture.index, "material '" + m.name + "'"));
   }

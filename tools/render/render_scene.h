@@ -62,7 +62,7 @@ struct Light {
 struct Camera {
   bool orthographic = false;
   float yfov = 0.8f;         // perspective, radians
-  float aspectRatio = 0.f;   // 0: the image's
+  float aspectRatio = 0.f;   // as the file gives it; renders use the image's aspect
   float xmag = 1.f, ymag = 1.f;  // orthographic half extents
 };
 

@@ -25,7 +25,8 @@ ViewCamera sceneCamera(const RenderScene& scene, const ScenePose& pose, size_t i
   view.forward = normalize(transformVector(placed.toWorld, {0.f, 0.f, -1.f}));
   const Vec3 right = normalize(transformVector(placed.toWorld, {1.f, 0.f, 0.f}));
   const Vec3 up = normalize(transformVector(placed.toWorld, {0.f, 1.f, 0.f}));
-  const float aspect = camera.aspectRatio > 0.f ? camera.aspectRatio : float(width) / float(height);
+  // The image's own aspect, as glTF viewers do: the file's aspectRatio would stretch other sizes.
+  const float aspect = float(width) / float(height);
   if (camera.orthographic) {
     view.right = right * std::fabs(camera.xmag);
     view.up = up * std::fabs(camera.ymag);
