@@ -7,6 +7,11 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstddef>
+#include <limits>
+#include <memory>
+
+#include "simd/float4_sse.h"
 
 namespace obvh {
 namespace {
@@ -19,58 +24,107 @@ constexpr size_t kParallelRecursionThreshold = 1 << 12;
 // kMedianSplitDepth + log2(N) and so keeps traversal stacks small and fixed.
 constexpr int kMedianSplitDepth = 48;
 
-struct RangeInfo {
-  Box3f bounds;
-  Box3f centroidBounds;  // bounds of twice the centroids (see Box3f::center2)
 
-  void add(const PrimRef& ref) {
-    bounds.extend(ref.bounds);
-    centroidBounds.extend(ref.bounds.center2());
-  }
-  void merge(const RangeInfo& other) {
-    bounds.extend(other.bounds);
-    centroidBounds.extend(other.centroidBounds);
+
+// A box as two SSE vectors (lane 3 unused): binning extends a bin with two min/max instructions.
+struct SseBox {
+  simd::Float4Sse lower = simd::Float4Sse::broadcast(std::numeric_limits<float>::infinity());
+  simd::Float4Sse upper = simd::Float4Sse::broadcast(-std::numeric_limits<float>::infinity());
+
+  void extend(simd::Float4Sse lo, simd::Float4Sse hi) { lower = min(lower, lo), upper = max(upper, hi); }
+  void extend(const SseBox& b) { extend(b.lower, b.upper); }
+  float halfArea() const {
+    alignas(16) float lo[4], hi[4];
+    lower.store(lo), upper.store(hi);
+    if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) return 0.f;
+    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    return dx * dy + dy * dz + dz * dx;
   }
 };
 
-// Sized to the configured bin count: clearing all kMaxBins entries per node would dominate build time.
+// A primitive's bounds as loaded by SSE: lane 3 of lower is upper.x and lane 3 of upper the index
+// bits, both ignored (PrimRef is a packed Box3f followed by the index).
+static_assert(sizeof(Box3f) == 6 * sizeof(float) && offsetof(PrimRef, index) == sizeof(Box3f));
+inline simd::Float4Sse refLower(const PrimRef& ref) { return simd::Float4Sse::loadUnaligned(&ref.bounds.lower.x); }
+inline simd::Float4Sse refUpper(const PrimRef& ref) { return simd::Float4Sse::loadUnaligned(&ref.bounds.upper.x); }
+
+Box3f toBox3f(const SseBox& box) {
+  alignas(16) float lo[4], hi[4];
+  box.lower.store(lo), box.upper.store(hi);
+  Box3f out;
+  out.lower = {lo[0], lo[1], lo[2]};
+  out.upper = {hi[0], hi[1], hi[2]};
+  return out;
+}
+
+// Bounds of a range of primitives and of their doubled centroids (see Box3f::center2).
+struct RangeInfo {
+  SseBox box;
+  SseBox centroids;
+
+  void add(const PrimRef& ref) {
+    const simd::Float4Sse lower = refLower(ref), upper = refUpper(ref);
+    box.extend(lower, upper);
+    const simd::Float4Sse centre2 = lower + upper;
+    centroids.extend(centre2, centre2);
+  }
+  void merge(const RangeInfo& other) {
+    box.extend(other.box);
+    centroids.extend(other.centroids);
+  }
+  Box3f bounds() const { return toBox3f(box); }
+  Box3f centroidBounds() const { return toBox3f(centroids); }
+};
+
+// Per-axis bin bounds and counts, laid out axis-major in the first 3 * binCount entries. Fixed
+// storage: a sequential node reuses its thread's scratch Bins instead of allocating.
 struct Bins {
   int binCount = 0;
-  std::vector<Box3f> boundsStorage;
-  std::vector<uint32_t> countStorage;
+  std::array<SseBox, 3 * kMaxBins> boundsStorage;
+  std::array<uint32_t, 3 * kMaxBins> countStorage;
 
-  explicit Bins(int bins = 0) : binCount(bins), boundsStorage(3 * size_t(bins)), countStorage(3 * size_t(bins), 0) {}
-  Box3f& bounds(int axis, int b) { return boundsStorage[size_t(axis) * binCount + b]; }
-  const Box3f& bounds(int axis, int b) const { return boundsStorage[size_t(axis) * binCount + b]; }
+  void reset(int bins) {
+    binCount = bins;
+    std::fill_n(boundsStorage.begin(), 3 * bins, SseBox{});
+    std::fill_n(countStorage.begin(), 3 * bins, 0u);
+  }
+  SseBox& bounds(int axis, int b) { return boundsStorage[size_t(axis) * binCount + b]; }
+  const SseBox& bounds(int axis, int b) const { return boundsStorage[size_t(axis) * binCount + b]; }
   uint32_t& count(int axis, int b) { return countStorage[size_t(axis) * binCount + b]; }
   uint32_t count(int axis, int b) const { return countStorage[size_t(axis) * binCount + b]; }
 
   void merge(const Bins& other) {
-    if (binCount == 0) {
-      *this = other;
-      return;
-    }
-    for (size_t i = 0; i < boundsStorage.size() && i < other.boundsStorage.size(); ++i) {
+    for (size_t i = 0; i < 3 * size_t(binCount); ++i) {
       boundsStorage[i].extend(other.boundsStorage[i]);
       countStorage[i] += other.countStorage[i];
     }
   }
 };
 
-// Maps a centroid coordinate to a bin index; identical arithmetic is used for binning and partitioning.
+// Maps a centroid to its bin on each axis; binning and partitioning use this one computation, so
+// a primitive always lands on the side its bin was counted on.
 struct BinMapping {
-  Vec3f origin;
-  Vec3f scale;
+  simd::Float4Sse origin;
+  simd::Float4Sse scale;
   int binCount;
 
-  BinMapping(const Box3f& centroidBounds, int bins) : origin(centroidBounds.lower), binCount(bins) {
+  BinMapping(const Box3f& centroidBounds, int bins) : binCount(bins) {
+    alignas(16) float o[4] = {centroidBounds.lower.x, centroidBounds.lower.y, centroidBounds.lower.z, 0.f};
+    alignas(16) float k[4] = {0.f, 0.f, 0.f, 0.f};
     const Vec3f extent = centroidBounds.upper - centroidBounds.lower;
-    for (int axis = 0; axis < 3; ++axis)
-      scale[axis] = extent[axis] > 0.f ? (0.99999f * float(bins)) / extent[axis] : 0.f;
+    for (int axis = 0; axis < 3; ++axis) k[axis] = extent[axis] > 0.f ? (0.99999f * float(bins)) / extent[axis] : 0.f;
+    origin = simd::Float4Sse::load(o);
+    scale = simd::Float4Sse::load(k);
+  }
+  // Bins of the box with these SSE bounds on x, y, z (out[3] is garbage).
+  void bins(simd::Float4Sse lower, simd::Float4Sse upper, int out[4]) const {
+    ((lower + upper - origin) * scale).truncate(out);
+    for (int axis = 0; axis < 3; ++axis) out[axis] = std::clamp(out[axis], 0, binCount - 1);
   }
   int bin(const PrimRef& ref, int axis) const {
-    const int b = int((ref.bounds.center2()[axis] - origin[axis]) * scale[axis]);
-    return std::clamp(b, 0, binCount - 1);
+    int out[4];
+    bins(refLower(ref), refUpper(ref), out);
+    return out[axis];
   }
 };
 
@@ -87,6 +141,9 @@ class BinnedSahBuilder {
     options_.binCount = std::clamp(options_.binCount, 2, kMaxBins);
     options_.maxLeafSize = std::max(options_.maxLeafSize, 1);
     options_.leafBlockSize = std::max(options_.leafBlockSize, 1);
+    // The SAH sweep counts blocks per bin: a shift instead of a division when the size is a power of two.
+    for (int shift = 0; shift < 31; ++shift)
+      if (options_.leafBlockSize == 1 << shift) blockShift_ = shift;
   }
 
   void run() {
@@ -122,23 +179,30 @@ class BinnedSahBuilder {
   }
 
   void binRange(size_t begin, size_t end, const BinMapping& mapping, Bins& bins) const {
-    for (size_t i = begin; i < end; ++i)
+    for (size_t i = begin; i < end; ++i) {
+      const simd::Float4Sse lower = refLower(refs_[i]), upper = refUpper(refs_[i]);
+      int b[4];
+      mapping.bins(lower, upper, b);
       for (int axis = 0; axis < 3; ++axis) {
-        const int b = mapping.bin(refs_[i], axis);
-        bins.bounds(axis, b).extend(refs_[i].bounds);
-        ++bins.count(axis, b);
+        bins.bounds(axis, b[axis]).extend(lower, upper);
+        ++bins.count(axis, b[axis]);
       }
+    }
   }
 
-  Bins binAll(size_t begin, size_t end, const BinMapping& mapping) const {
+  // Bins of [begin, end); small ranges fill the calling thread's scratch, large ones reduce in parallel into `large`.
+  const Bins& binAll(size_t begin, size_t end, const BinMapping& mapping, std::unique_ptr<Bins>& large) const {
     const int binCount = mapping.binCount;
     if (end - begin < kParallelBinningThreshold) {
-      Bins bins(binCount);
-      binRange(begin, end, mapping, bins);
-      return bins;
+      static thread_local Bins scratch;
+      scratch.reset(binCount);
+      binRange(begin, end, mapping, scratch);
+      return scratch;
     }
-    return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(begin, end, 8192), Bins(binCount),
+    auto empty = std::make_unique<Bins>();
+    empty->reset(binCount);
+    large = std::make_unique<Bins>(tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(begin, end, 8192), *empty,
         [&](const tbb::blocked_range<size_t>& r, Bins bins) {
           binRange(r.begin(), r.end(), mapping, bins);
           return bins;
@@ -146,21 +210,24 @@ class BinnedSahBuilder {
         [](Bins a, const Bins& b) {
           a.merge(b);
           return a;
-        });
+        }));
+    return *large;
   }
 
   // Leaves are tested leafBlockSize primitives at a time: a partly filled block costs a full one.
   float blocks(size_t count) const {
+    if (blockShift_ >= 0) return float((count + (size_t(1) << blockShift_) - 1) >> blockShift_);
     const size_t b = size_t(options_.leafBlockSize);
     return float((count + b - 1) / b);
   }
 
   Split findBestSplit(const Bins& bins, int binCount) const {
     Split best;
-    std::array<float, kMaxBins> rightCost{};
-    std::array<uint32_t, kMaxBins> rightCount{};
+    // Every entry read below is written first: no zero fill (it showed up as a memset per node).
+    std::array<float, kMaxBins> rightCost;
+    std::array<uint32_t, kMaxBins> rightCount;
     for (int axis = 0; axis < 3; ++axis) {
-      Box3f accumulated;
+      SseBox accumulated;
       uint32_t count = 0;
       for (int b = binCount - 1; b > 0; --b) {
         accumulated.extend(bins.bounds(axis, b));
@@ -168,7 +235,7 @@ class BinnedSahBuilder {
         rightCost[b] = accumulated.halfArea() * blocks(count);
         rightCount[b] = count;
       }
-      accumulated = Box3f{};
+      accumulated = SseBox{};
       count = 0;
       for (int b = 1; b < binCount; ++b) {
         accumulated.extend(bins.bounds(axis, b - 1));
@@ -204,35 +271,36 @@ class BinnedSahBuilder {
 
   void buildNode(uint32_t nodeIndex, size_t begin, size_t end, const RangeInfo& info, int depth) {
     const size_t n = end - begin;
-    if (n == 1) return makeLeaf(nodeIndex, begin, end, info.bounds);
+    if (n == 1) return makeLeaf(nodeIndex, begin, end, info.bounds());
 
     size_t middle = begin;
     RangeInfo leftInfo, rightInfo;
     bool childInfoKnown = false;  // set when the partition already measured both sides
     // Small nodes cannot use many bins; sweeping empty bins would dominate the build time.
-    const int binCount = int(std::min<size_t>(size_t(options_.binCount), std::max<size_t>(4, 2 * n)));
-    const BinMapping mapping(info.centroidBounds, binCount);
-    const bool centroidsDistinct = !(info.centroidBounds.lower.x == info.centroidBounds.upper.x &&
-                                     info.centroidBounds.lower.y == info.centroidBounds.upper.y &&
-                                     info.centroidBounds.lower.z == info.centroidBounds.upper.z);
+    const int binCount = int(std::min<size_t>(size_t(options_.binCount), std::max<size_t>(4, n)));
+    const Box3f centroidBounds = info.centroidBounds();
+    const BinMapping mapping(centroidBounds, binCount);
+    const bool centroidsDistinct = !(centroidBounds.lower.x == centroidBounds.upper.x &&
+                                     centroidBounds.lower.y == centroidBounds.upper.y &&
+                                     centroidBounds.lower.z == centroidBounds.upper.z);
     if (centroidsDistinct && depth >= kMedianSplitDepth) {
-      if (n <= size_t(options_.maxLeafSize)) return makeLeaf(nodeIndex, begin, end, info.bounds);
-      const int axis = info.centroidBounds.largestAxis();
+      if (n <= size_t(options_.maxLeafSize)) return makeLeaf(nodeIndex, begin, end, info.bounds());
+      const int axis = centroidBounds.largestAxis();
       middle = begin + n / 2;
       std::nth_element(refs_.begin() + begin, refs_.begin() + middle, refs_.begin() + end,
                        [axis](const PrimRef& a, const PrimRef& b) {
                          return a.bounds.center2()[axis] < b.bounds.center2()[axis];
                        });
     } else if (centroidsDistinct) {
-      const Bins bins = binAll(begin, end, mapping);
-      const Split split = findBestSplit(bins, binCount);
-      const float parentArea = info.bounds.halfArea();
+      std::unique_ptr<Bins> largeBins;
+      const Split split = findBestSplit(binAll(begin, end, mapping, largeBins), binCount);
+      const float parentArea = info.box.halfArea();
       const float leafCost = options_.intersectionCost * blocks(n);
       const float splitCost =
           options_.traversalCost +
           (parentArea > 0.f ? options_.intersectionCost * split.cost / parentArea : leafCost);
       if (n <= size_t(options_.maxLeafSize) && leafCost <= splitCost)
-        return makeLeaf(nodeIndex, begin, end, info.bounds);
+        return makeLeaf(nodeIndex, begin, end, info.bounds());
       if (split.axis >= 0) {
         auto goesLeft = [&](const PrimRef& ref) { return mapping.bin(ref, split.axis) < split.bin; };
         if (n < kParallelBinningThreshold) {
@@ -243,7 +311,7 @@ class BinnedSahBuilder {
         }
       }
     } else if (n <= size_t(options_.maxLeafSize)) {
-      return makeLeaf(nodeIndex, begin, end, info.bounds);
+      return makeLeaf(nodeIndex, begin, end, info.bounds());
     }
     // Identical centroids or a failed partition: halve the range so recursion always terminates.
     if (middle == begin || middle == end) {
@@ -253,7 +321,7 @@ class BinnedSahBuilder {
 
     const uint32_t left = nodeCount_.fetch_add(2);
     Bvh2Node& node = out_.nodes[nodeIndex];
-    node.bounds = info.bounds;
+    node.bounds = info.bounds();
     node.firstChildOrPrim = left;
     node.primCount = 0;
 
@@ -271,6 +339,7 @@ class BinnedSahBuilder {
     }
   }
 
+  int blockShift_ = -1;
   std::vector<PrimRef>& refs_;
   BuildOptions options_;
   BinaryBvh& out_;

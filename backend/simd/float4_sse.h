@@ -12,6 +12,10 @@ struct Float4Sse {
   static Float4Sse broadcast(float x) { return {_mm_set1_ps(x)}; }
   static Float4Sse load(const float* p) { return {_mm_load_ps(p)}; }  // p is 16-byte aligned
   void store(float* p) const { _mm_store_ps(p, v); }
+  static Float4Sse loadUnaligned(const float* p) { return {_mm_loadu_ps(p)}; }
+  void storeUnaligned(float* p) const { _mm_storeu_ps(p, v); }
+  // Truncates each lane toward zero, as a float-to-int cast does for values in range.
+  void truncate(int* out) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(v)); }
 
   friend Float4Sse operator+(Float4Sse a, Float4Sse b) { return {_mm_add_ps(a.v, b.v)}; }
   friend Float4Sse operator-(Float4Sse a, Float4Sse b) { return {_mm_sub_ps(a.v, b.v)}; }
