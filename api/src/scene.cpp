@@ -176,6 +176,9 @@ void Scene::rebuild() {
   BuildOptions options;
   options.layout = device_->config().accel;
   options.intersector = (flags_ & RTC_SCENE_FLAG_ROBUST) ? IntersectorMode::Watertight : device_->config().intersector;
+  options.quality = quality_ == RTC_BUILD_QUALITY_HIGH  ? BuildQuality::High
+                    : quality_ == RTC_BUILD_QUALITY_LOW ? BuildQuality::Low
+                                                        : BuildQuality::Medium;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
   options.obbSplit = device_->config().obbSplit;

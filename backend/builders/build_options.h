@@ -11,12 +11,17 @@ enum class AccelLayout { Bvh2, Bvh4, Bvh8, Obb, Hybrid };
 // SAH, object median or spatial midpoint along the axes of each node's own oriented box.
 enum class ObbSplit { AabbSah, Sah, Median, Midpoint };
 
+// rtcSetSceneBuildQuality: Low and Medium build binned SAH; High adds spatial splits (SBVH) for the
+// axis-aligned layouts.
+enum class BuildQuality { Low, Medium, High };
+
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
 
 struct BuildOptions {
   AccelLayout layout = AccelLayout::Bvh4;
   IntersectorMode intersector = IntersectorMode::Watertight;
+  BuildQuality quality = BuildQuality::Medium;
   int binCount = 32;
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit

@@ -7,6 +7,7 @@
 
 #include "builders/binned_sah_builder.h"
 #include "builders/obb_split_builder.h"
+#include "builders/spatial_split_builder.h"
 #include "bvh/oriented_layout.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
@@ -99,9 +100,12 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   }
   options_ = triangleOptions;
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
-  triangleBvh_ = oriented && options.obbSplit != ObbSplit::AabbSah
-                     ? buildInObbFrames(collected.refs, collected.triangles.data(), triangleOptions)
-                     : buildBinnedSah(collected.refs, triangleOptions);
+  if (oriented && options.obbSplit != ObbSplit::AabbSah)
+    triangleBvh_ = buildInObbFrames(collected.refs, collected.triangles.data(), triangleOptions);
+  else if (!oriented && options.quality == BuildQuality::High)
+    triangleBvh_ = buildSpatialSah(collected.refs, collected.triangles.data(), triangleOptions);
+  else
+    triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });

@@ -67,6 +67,27 @@ INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
                          ::testing::Values("accel=bvh2", "accel=bvh4", "accel=bvh8", "accel=bvh4,max_leaf_size=11",
                                            "accel=bvh8,max_leaf_size=7", "accel=bvh8,max_leaf_size=1"));
 
+// Every build quality, both libraries at the same level: HIGH is obvh's spatial-split builder
+// (triangles referenced from several leaves), on long slanted lines where it splits the most.
+TEST(CrossvalIntersect, EveryBuildQualityMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  const tools::StackPreset* preset = tools::findStackPreset("vias-5.6k");
+  ASSERT_NE(preset, nullptr);
+  const tools::StackScene stack = tools::generateStack(preset->params, preset->name);
+  SceneData scene;
+  scene.name = "vias stack + soup";
+  scene.meshes = stack.groups;
+  scene.meshes.push_back(randomTriangleSoup(3000, 31));
+  for (RTCBuildQuality quality : {RTC_BUILD_QUALITY_LOW, RTC_BUILD_QUALITY_MEDIUM, RTC_BUILD_QUALITY_HIGH}) {
+    tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, RTC_SCENE_FLAG_NONE, quality);
+    tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, RTC_SCENE_FLAG_NONE, quality);
+    const std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 40 + unsigned(quality));
+    const std::string level = "quality " + std::to_string(int(quality));
+    expectNoMismatch(level.c_str(), compareCommitted(scene, reference, candidate, rays));
+    expectNoMismatch((level + " occlusion").c_str(), compareCommittedOcclusion(scene, reference, candidate, rays));
+  }
+}
+
 // intersector=fast (Moeller-Trumbore) against Embree's default path, which uses the same test.
 TEST(CrossvalIntersect, FastIntersectorMatchesEmbree) {
   const LoadedLibraries& libs = libraries();

@@ -36,13 +36,14 @@ struct Options {
   int runs = 5;
   size_t randomRays = 1 << 20;
   std::string outDir = "out";
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;  // of the scene every workload traces
 };
 
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
                "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
-               "[--out DIR]\n"
+               "[--out DIR] [--quality low|medium|high]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
                "  default scene: %s (Debian package glmark2-data)\n",
@@ -71,6 +72,13 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--runs") o.runs = int(parsePositive("--runs", value, 1000));
     else if (arg == "--random-rays") o.randomRays = size_t(parsePositive("--random-rays", value, 1L << 28));
     else if (arg == "--out") o.outDir = value;
+    else if (arg == "--quality") {
+      const std::string level = value;
+      if (level == "low") o.quality = RTC_BUILD_QUALITY_LOW;
+      else if (level == "medium") o.quality = RTC_BUILD_QUALITY_MEDIUM;
+      else if (level == "high") o.quality = RTC_BUILD_QUALITY_HIGH;
+      else usage(("--quality takes low, medium or high, not " + level).c_str());
+    }
     else usage(("unknown option " + arg).c_str());
   }
   return o;
@@ -221,7 +229,9 @@ int main(int argc, char** argv) {
       std::vector<double> buildTimes;
       for (int r = 0; r < options.runs; ++r) {
         run.scene.reset();
-        buildTimes.push_back(millisecondsOf([&] { run.scene = std::make_unique<CommittedScene>(*run.lib, run.device, scene); }));
+        buildTimes.push_back(millisecondsOf([&] {
+          run.scene = std::make_unique<CommittedScene>(*run.lib, run.device, scene, RTC_SCENE_FLAG_NONE, options.quality);
+        }));
         if (run.lib->rtcGetDeviceError(run.device) != RTC_ERROR_NONE)
           throw std::runtime_error(run.lib->label + ": committing the scene failed");
       }
@@ -268,7 +278,10 @@ int main(int argc, char** argv) {
                 scene.name.c_str(), scene.primitiveCount(), options.width, options.height, random.size(), diffuse.size(),
                 options.runs, int(std::thread::hardware_concurrency()));
     std::printf("  %-42s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
-    printRow("build ms", runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
+    const char* qualityName = options.quality == RTC_BUILD_QUALITY_HIGH  ? "build ms (RTC_BUILD_QUALITY_HIGH)"
+                              : options.quality == RTC_BUILD_QUALITY_LOW ? "build ms (RTC_BUILD_QUALITY_LOW)"
+                                                                         : "build ms";
+    printRow(qualityName, runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
     printRow("build ms, RTC_BUILD_QUALITY_LOW", runs[0].lowBuildMs, runs[1].lowBuildMs, runs[2].lowBuildMs, true);
     printRow("refit ms (RTC_BUILD_QUALITY_REFIT)", runs[0].refitMs, runs[1].refitMs, runs[2].refitMs, true);
     for (size_t k = 0; k < workloads.size(); ++k)
