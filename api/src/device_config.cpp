@@ -85,6 +85,8 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       if (value == "on") config.rayMasks = true;
       else if (value == "off") config.rayMasks = false;
       else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for ray_mask (on or off)");
+    } else if (name == "spatial_budget") {
+      config.spatialBudget = float(parseInt(name, value, 0, 400)) / 100.f;
     } else if (name == "build_bins") {
       config.buildBins = parseInt(name, value, 2, 256);
     } else if (name == "max_leaf_size") {

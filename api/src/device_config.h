@@ -22,6 +22,7 @@ struct DeviceConfig {
   int obbBins = 32;
   int obbClusters = 0;
   float obbTestCost = 2.f;
+  float spatialBudget = 1.f;  // RTC_BUILD_QUALITY_HIGH: extra references per triangle (spatial_budget, percent)
   // ray_mask=off: ignore ray and geometry masks, for programs written against builds without masks.
   bool rayMasks = true;
 };

@@ -179,6 +179,7 @@ void Scene::rebuild() {
   options.quality = quality_ == RTC_BUILD_QUALITY_HIGH  ? BuildQuality::High
                     : quality_ == RTC_BUILD_QUALITY_LOW ? BuildQuality::Low
                                                         : BuildQuality::Medium;
+  options.spatialBudget = device_->config().spatialBudget;
   options.binCount = device_->config().buildBins;
   options.maxLeafSize = device_->config().maxLeafSize;
   options.obbSplit = device_->config().obbSplit;

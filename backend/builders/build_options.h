@@ -22,6 +22,7 @@ struct BuildOptions {
   AccelLayout layout = AccelLayout::Bvh4;
   IntersectorMode intersector = IntersectorMode::Watertight;
   BuildQuality quality = BuildQuality::Medium;
+  float spatialBudget = 1.0f;     // High: extra triangle references allowed, as a fraction of the triangle count
   int binCount = 32;
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit

@@ -100,12 +100,15 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   }
   options_ = triangleOptions;
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
-  if (oriented && options.obbSplit != ObbSplit::AabbSah)
+  if (oriented && options.obbSplit != ObbSplit::AabbSah) {
     triangleBvh_ = buildInObbFrames(collected.refs, collected.triangles.data(), triangleOptions);
-  else if (!oriented && options.quality == BuildQuality::High)
-    triangleBvh_ = buildSpatialSah(collected.refs, collected.triangles.data(), triangleOptions);
-  else
+  } else if (!oriented && options.quality == BuildQuality::High) {
+    SpatialSplitSettings settings;
+    settings.referenceBudget = options.spatialBudget;
+    triangleBvh_ = buildSpatialSah(collected.refs, collected.triangles.data(), triangleOptions, settings);
+  } else {
     triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
+  }
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });
@@ -205,7 +208,8 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
-         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters;
+         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
+         a.quality == b.quality && a.spatialBudget == b.spatialBudget;
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ RTCGeometry newTriangles(const tools::RtcLibrary& lib, RTCDevice device, const P
 }  // namespace
 
 CommittedRenderScene::CommittedRenderScene(const tools::RtcLibrary& lib, RTCDevice device, const RenderScene& scene,
-                                           const ScenePose& pose, bool animated)
+                                           const ScenePose& pose, bool animated, RTCBuildQuality quality)
     : lib_(lib), scene_(scene) {
   std::vector<int> placements(scene.meshes.size(), 0);
   for (const PlacedMesh& placed : pose.meshes) ++placements[size_t(placed.mesh)];
@@ -32,6 +32,7 @@ CommittedRenderScene::CommittedRenderScene(const tools::RtcLibrary& lib, RTCDevi
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     if (placements[m] < 2) continue;
     RTCScene prototype = lib.rtcNewScene(device);
+    lib.rtcSetSceneBuildQuality(prototype, quality);
     for (size_t p = 0; p < scene.meshes[m].primitives.size(); ++p) {
       const Primitive& primitive = scene.meshes[m].primitives[p];
       if (primitive.triangleCount() == 0) continue;
@@ -50,6 +51,8 @@ CommittedRenderScene::CommittedRenderScene(const tools::RtcLibrary& lib, RTCDevi
   if (animated) {
     lib.rtcSetSceneFlags(top_, RTC_SCENE_FLAG_DYNAMIC);
     lib.rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_LOW);
+  } else {
+    lib.rtcSetSceneBuildQuality(top_, quality);
   }
   for (size_t placement = 0; placement < pose.meshes.size(); ++placement) {
     const PlacedMesh& placed = pose.meshes[placement];

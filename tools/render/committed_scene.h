@@ -21,9 +21,10 @@ struct HitLocation {
 
 class CommittedRenderScene {
  public:
-  // animated: the scene will be updated per frame (dynamic scene, refit geometries).
+  // animated: the scene will be updated per frame (dynamic scene, refit geometries). quality: of
+  // the top-level scene (and of instanced meshes' scenes) when not animated.
   CommittedRenderScene(const tools::RtcLibrary& lib, RTCDevice device, const RenderScene& scene, const ScenePose& pose,
-                       bool animated);
+                       bool animated, RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM);
   ~CommittedRenderScene();
   CommittedRenderScene(const CommittedRenderScene&) = delete;
   CommittedRenderScene& operator=(const CommittedRenderScene&) = delete;

@@ -38,6 +38,7 @@ struct Options {
   std::set<Effect> disabled;
   bool quiet = false;
   std::string heatmap;
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
 };
 
 [[noreturn]] void usage(const std::string& error) {
@@ -58,6 +59,7 @@ struct Options {
                "                                     dispersion, animation\n"
                "  --heatmap FILE.png                 also write bounding-volume tests per pixel (log scale 1..256;\n"
                "                                     obvh only: Embree does not count them)\n"
+               "  --quality low|medium|high          rtcSetSceneBuildQuality of a static scene (default medium)\n"
                "  --quiet                            no progress bar\n");
   std::exit(error.empty() ? 0 : 2);
 }
@@ -83,6 +85,13 @@ Options parse(int argc, char** argv) {
     if (arg == "-o" || arg == "--output") o.output = argv[++i];
     else if (arg == "--library") o.library = argv[++i];
     else if (arg == "--heatmap") o.heatmap = argv[++i];
+    else if (arg == "--quality") {
+      const std::string level = argv[++i];
+      if (level == "low") o.quality = RTC_BUILD_QUALITY_LOW;
+      else if (level == "medium") o.quality = RTC_BUILD_QUALITY_MEDIUM;
+      else if (level == "high") o.quality = RTC_BUILD_QUALITY_HIGH;
+      else usage("--quality takes low, medium or high, not '" + level + "'");
+    }
     else if (arg == "--width") o.frame.width = int(number(arg, argv[++i], 1, 16384));
     else if (arg == "--height") o.frame.height = int(number(arg, argv[++i], 1, 16384));
     else if (arg == "--spp") o.spp = int(number(arg, argv[++i], 1, 65536));
@@ -161,7 +170,7 @@ int main(int argc, char** argv) {
     if (o.frames > 1 && !plan.animation) std::printf("note: --frames %d on a scene without animation renders one frame\n", o.frames);
 
     start = std::chrono::steady_clock::now();
-    auto committed = std::make_unique<CommittedRenderScene>(*lib, device, scene, pose, animate);
+    auto committed = std::make_unique<CommittedRenderScene>(*lib, device, scene, pose, animate, o.quality);
     const double buildSeconds = secondsSince(start);
     if (lib->rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error(o.library + " failed to build the scene");
 
