@@ -11,8 +11,8 @@ enum class AccelLayout { Bvh2, Bvh4, Bvh8, Obb, Hybrid };
 // SAH, object median or spatial midpoint along the axes of each node's own oriented box.
 enum class ObbSplit { AabbSah, Sah, Median, Midpoint };
 
-// rtcSetSceneBuildQuality: Low and Medium build binned SAH; High adds spatial splits (SBVH) for the
-// axis-aligned layouts.
+// rtcSetSceneBuildQuality, for the axis-aligned layouts: Low builds a Morton-code LBVH, Medium
+// binned SAH, High adds spatial splits (SBVH). The oriented layouts build as for Medium.
 enum class BuildQuality { Low, Medium, High };
 
 // Which triangle test queries use.

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "builders/binned_sah_builder.h"
+#include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
 #include "builders/spatial_split_builder.h"
 #include "bvh/oriented_layout.h"
@@ -106,6 +107,8 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
     SpatialSplitSettings settings;
     settings.referenceBudget = options.spatialBudget;
     triangleBvh_ = buildSpatialSah(collected.refs, collected.triangles.data(), triangleOptions, settings);
+  } else if (!oriented && options.quality == BuildQuality::Low) {
+    triangleBvh_ = buildMorton(collected.refs, triangleOptions);
   } else {
     triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
   }

@@ -3,10 +3,12 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 
 #include "builders/binned_sah_builder.h"
+#include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
 #include "scene/primitive_collection.h"
 #include "scene/scene_accel.h"
@@ -55,6 +57,35 @@ TEST(BuildDeterminism, BinnedSahTreeIsTheSameOnOneAndTwoThreads) {
   });
   ASSERT_EQ(one.nodes.size(), two.nodes.size());
   expectSameTree(one, 0, two, 0);
+}
+
+// RTC_BUILD_QUALITY_LOW: the Morton-code tree, with every triangle in exactly one leaf.
+TEST(BuildDeterminism, MortonTreeIsTheSameOnOneAndTwoThreads) {
+  const test::MeshData soup = bigSoup();
+  const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
+  BuildOptions options;
+  options.maxLeafSize = 4;
+  const auto build = [&](int threads) {
+    return withThreads(threads, [&] {
+      std::vector<PrimRef> refs = collected.refs;
+      return buildMorton(refs, options);
+    });
+  };
+  const BinaryBvh one = build(1), two = build(2);
+  ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  expectSameTree(one, 0, two, 0);
+  std::vector<int> seen(collected.refs.size(), 0);
+  for (uint32_t index : one.primIndices) ++seen[index];
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), long(seen.size()));
+  for (const Bvh2Node& node : one.nodes) {
+    if (node.isLeaf()) {
+      EXPECT_LE(node.primCount, 4u);
+      for (uint32_t i = 0; i < node.primCount; ++i) {
+        const Box3f& b = collected.refs[one.primIndices[node.firstChildOrPrim + i]].bounds;
+        EXPECT_TRUE(node.bounds.lower.x <= b.lower.x && node.bounds.upper.y >= b.upper.y);
+      }
+    }
+  }
 }
 
 TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
