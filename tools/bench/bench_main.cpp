@@ -37,13 +37,14 @@ struct Options {
   size_t randomRays = 1 << 20;
   std::string outDir = "out";
   RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;  // of the scene every workload traces
+  int threads = 0;  // build and trace threads of every device (0: all)
 };
 
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
                "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
-               "[--out DIR] [--quality low|medium|high]\n"
+               "[--out DIR] [--quality low|medium|high] [--threads N]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
                "  default scene: %s (Debian package glmark2-data)\n",
@@ -72,6 +73,7 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--runs") o.runs = int(parsePositive("--runs", value, 1000));
     else if (arg == "--random-rays") o.randomRays = size_t(parsePositive("--random-rays", value, 1L << 28));
     else if (arg == "--out") o.outDir = value;
+    else if (arg == "--threads") o.threads = int(parsePositive("--threads", value, 1024));
     else if (arg == "--quality") {
       const std::string level = value;
       if (level == "low") o.quality = RTC_BUILD_QUALITY_LOW;
@@ -100,7 +102,8 @@ struct Result {
 
 struct LibraryRun {
   const RtcLibrary* lib = nullptr;
-  const char* config = nullptr;  // rtcNewDevice config
+  std::string config;            // rtcNewDevice config
+  bool defaultMode = true;       // obvh's default triangle test (must agree with Embree)
   const char* name = "";
   RTCDevice device = nullptr;
   std::unique_ptr<CommittedScene> scene;
@@ -223,8 +226,11 @@ int main(int argc, char** argv) {
     runs[0].lib = embree.get(), runs[0].name = "embree";
     runs[1].lib = obvh.get(), runs[1].name = "obvh";
     runs[2].lib = obvh.get(), runs[2].name = "obvh fast", runs[2].config = "intersector=fast";
+    runs[2].defaultMode = false;
     for (LibraryRun& run : runs) {
-      run.device = run.lib->rtcNewDevice(run.config);
+      if (options.threads > 0)
+        run.config += (run.config.empty() ? "" : ",") + std::string("threads=") + std::to_string(options.threads);
+      run.device = run.lib->rtcNewDevice(run.config.c_str());
       if (!run.device) throw std::runtime_error(run.lib->label + ": rtcNewDevice failed");
       std::vector<double> buildTimes;
       for (int r = 0; r < options.runs; ++r) {
@@ -277,6 +283,8 @@ int main(int argc, char** argv) {
                 "%d hardware threads\n",
                 scene.name.c_str(), scene.primitiveCount(), options.width, options.height, random.size(), diffuse.size(),
                 options.runs, int(std::thread::hardware_concurrency()));
+    if (options.threads > 0)
+      std::printf("  devices built with threads=%d; rays are traced on every core either way\n", options.threads);
     std::printf("  %-42s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
     const char* qualityName = options.quality == RTC_BUILD_QUALITY_HIGH  ? "build ms (RTC_BUILD_QUALITY_HIGH)"
                               : options.quality == RTC_BUILD_QUALITY_LOW ? "build ms (RTC_BUILD_QUALITY_LOW)"
@@ -305,7 +313,7 @@ int main(int argc, char** argv) {
       }
       // The fast intersector is not watertight by design (see the accuracy report): only obvh's
       // default mode must agree with Embree wherever the answer is not ambiguous.
-      if (runs[r].config == nullptr) clean &= modeClean;
+      if (runs[r].defaultMode) clean &= modeClean;
     }
 
     std::filesystem::create_directories(options.outDir);
