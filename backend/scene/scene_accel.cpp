@@ -307,9 +307,14 @@ bool SceneAccel::occludedObjects(const Ray& ray, const QueryState& state) const 
   return found;
 }
 
-bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& queryState, TraversalCounters* counters) const {
-  QueryState state = queryState;
-  if (counters) state.counters = counters;
+bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
+  // An explicit counters argument (the layout study) counts like state.counters (heatmaps); the
+  // normal query path has neither and copies nothing.
+  if (counters && counters != state.counters) {
+    QueryState counted = state;
+    counted.counters = counters;
+    return intersect(ray, hit, counted);
+  }
   counters = state.counters;
   bool found = false;
   if (layout_ == AccelLayout::Bvh4)
@@ -323,9 +328,12 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& queryState, Tra
   return intersectObjects(ray, hit, state) || found;
 }
 
-bool SceneAccel::occluded(const Ray& ray, const QueryState& queryState, TraversalCounters* counters) const {
-  QueryState state = queryState;
-  if (counters) state.counters = counters;
+bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters) const {
+  if (counters && counters != state.counters) {
+    QueryState counted = state;
+    counted.counters = counters;
+    return occluded(ray, counted);
+  }
   counters = state.counters;
   if (layout_ == AccelLayout::Bvh4) {
     if (!triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state)) return true;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "accuracy_report.h"
+#include "build_quality.h"
 #include "hit_compare.h"
 #include "image_io.h"
 #include "mesh_loader.h"
@@ -75,11 +76,8 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--out") o.outDir = value;
     else if (arg == "--threads") o.threads = int(parsePositive("--threads", value, 1024));
     else if (arg == "--quality") {
-      const std::string level = value;
-      if (level == "low") o.quality = RTC_BUILD_QUALITY_LOW;
-      else if (level == "medium") o.quality = RTC_BUILD_QUALITY_MEDIUM;
-      else if (level == "high") o.quality = RTC_BUILD_QUALITY_HIGH;
-      else usage(("--quality takes low, medium or high, not " + level).c_str());
+      if (!parseBuildQuality(value, o.quality))
+        usage(("--quality takes low, medium or high, not " + std::string(value)).c_str());
     }
     else usage(("unknown option " + arg).c_str());
   }

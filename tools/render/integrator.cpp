@@ -56,8 +56,8 @@ Integrator::Integrator(const tools::RtcLibrary& lib, const CommittedRenderScene&
   environment_ = pose.lights.empty() ? (plan.pathTracing ? 1.f : 0.05f) : 0.02f;
 }
 
-bool Integrator::intersect(Vec3 org, Vec3 dir, float tnear, RTCRayHit& rayhit, uint64_t& rays) const {
-  rayhit = makeRayHit(org, dir, tnear, kInfinity);
+bool Integrator::intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays) const {
+  rayhit = makeRayHit(org, dir, 0.f, tfar);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   const RTCRayHit query = rayhit;
@@ -67,28 +67,24 @@ bool Integrator::intersect(Vec3 org, Vec3 dir, float tnear, RTCRayHit& rayhit, u
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
+bool Integrator::occluded(Vec3 org, Vec3 dir, float tfar, uint64_t& rays) const {
+  RTCRayHit r = makeRayHit(org, dir, 0.f, tfar);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  const RTCRayHit query = r;
+  lib_.rtcOccluded1(committed_.handle(), &context, &r.ray);
+  ++rays;
+  if (log_) log_->push_back({true, query, r});
+  return r.ray.tfar < 0.f;  // Embree marks an occluded ray with tfar = -inf
+}
+
 float Integrator::transmittance(Vec3 org, Vec3 dir, float distance, uint64_t& rays) const {
-  if (!plan_.transparency) {
-    RTCRayHit r = makeRayHit(org, dir, 0.f, distance);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    const RTCRayHit query = r;
-    lib_.rtcOccluded1(committed_.handle(), &context, &r.ray);
-    ++rays;
-    if (log_) log_->push_back({true, query, r});
-    return r.ray.tfar < 0.f ? 0.f : 1.f;  // Embree marks an occluded ray with tfar = -inf
-  }
+  if (!plan_.transparency) return occluded(org, dir, distance, rays) ? 0.f : 1.f;
   // Through alpha layers, nearest first.
   float through = 1.f;
   for (int layer = 0; layer < settings_.maxLayers && through > 1.f / 1024.f; ++layer) {
-    RTCRayHit r = makeRayHit(org, dir, 0.f, distance);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    const RTCRayHit query = r;
-    lib_.rtcIntersect1(committed_.handle(), &context, &r);
-    ++rays;
-    if (log_) log_->push_back({false, query, r});
-    if (r.hit.geomID == RTC_INVALID_GEOMETRY_ID) return through;
+    RTCRayHit r;
+    if (!intersect(org, dir, distance, r, rays)) return through;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     through *= 1.f - effectiveAlpha(s);
     distance -= r.ray.tfar;
@@ -138,7 +134,7 @@ Vec3 Integrator::shadeDirect(Vec3 org, Vec3 dir, uint64_t& rays) const {
   float through = 1.f;
   for (int layer = 0; layer < settings_.maxLayers; ++layer) {
     RTCRayHit r;
-    if (!intersect(org, dir, 0.f, r, rays)) return result + Vec3(environment_) * through;
+    if (!intersect(org, dir, kInfinity, r, rays)) return result + Vec3(environment_) * through;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     const float alpha = plan_.transparency ? effectiveAlpha(s) : 1.f;
     if (alpha > 0.f) {
@@ -165,7 +161,7 @@ Vec3 Integrator::tracePath(Vec3 org, Vec3 dir, Sampler& sampler, float wavelengt
   Vec3 result{0.f}, throughput{1.f};
   for (int depth = 0; depth < settings_.maxDepth; ++depth) {
     RTCRayHit r;
-    if (!intersect(org, dir, 0.f, r, rays)) return result + throughput * environment_;
+    if (!intersect(org, dir, kInfinity, r, rays)) return result + throughput * environment_;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     if (plan_.transparency && sampler.next1D() >= effectiveAlpha(s)) {
       org = offsetOrigin(s.position, -s.geometricNormal);

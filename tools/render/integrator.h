@@ -51,7 +51,9 @@ class Integrator {
   void recordQueries(std::vector<LoggedQuery>* log) { log_ = log; }
 
  private:
-  bool intersect(Vec3 org, Vec3 dir, float tnear, RTCRayHit& rayhit, uint64_t& rays) const;
+  // One rtcIntersect1 / rtcOccluded1 over (0, tfar], counted and logged.
+  bool intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays) const;
+  bool occluded(Vec3 org, Vec3 dir, float tfar, uint64_t& rays) const;
   // Fraction of light arriving along the segment (1 free, 0 blocked); partial through alpha layers.
   float transmittance(Vec3 org, Vec3 dir, float distance, uint64_t& rays) const;
   // Punctual lights reflected by a diffuse surface towards the viewer (per-channel, rgb weights).

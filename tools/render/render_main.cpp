@@ -13,6 +13,7 @@
 
 #include "committed_scene.h"
 #include "effects.h"
+#include "build_quality.h"
 #include "frame_output.h"
 #include "heatmap.h"
 #include "integrator.h"
@@ -87,10 +88,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--heatmap") o.heatmap = argv[++i];
     else if (arg == "--quality") {
       const std::string level = argv[++i];
-      if (level == "low") o.quality = RTC_BUILD_QUALITY_LOW;
-      else if (level == "medium") o.quality = RTC_BUILD_QUALITY_MEDIUM;
-      else if (level == "high") o.quality = RTC_BUILD_QUALITY_HIGH;
-      else usage("--quality takes low, medium or high, not '" + level + "'");
+      if (!tools::parseBuildQuality(level, o.quality)) usage("--quality takes low, medium or high, not '" + level + "'");
     }
     else if (arg == "--width") o.frame.width = int(number(arg, argv[++i], 1, 16384));
     else if (arg == "--height") o.frame.height = int(number(arg, argv[++i], 1, 16384));
