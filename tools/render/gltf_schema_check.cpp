@@ -15,11 +15,11 @@ namespace {
 
 using Json = nlohmann::json;
 
-enum class Kind { Uint, Number, String, Bool, Object, UintArray, NumberArray, StringArray, ObjectArray, UintMap, ObjectMap };
+enum class Kind { Uint, Number, String, Bool, Object, UintArray, NumberArray, StringArray, ObjectArray, UintMap };
 
 struct Rule {
   Kind kind;
-  const char* schema = "";  // for ObjectArray / Object / ObjectMap: the schema of the elements
+  const char* schema = "";  // for ObjectArray / Object: the schema of the elements
 };
 using Schema = std::map<std::string, Rule>;
 
@@ -147,7 +147,6 @@ class TypeChecker {
         for (const auto& [key, value] : v.items())
           if (!isUint(value)) wrong(at + "." + key, "a non-negative integer", value);
         break;
-      case Kind::ObjectMap: break;
     }
   }
 
