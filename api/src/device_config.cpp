@@ -27,6 +27,28 @@ int parseInt(const std::string& name, const std::string& value, int minValue, in
   return int(v);
 }
 
+float parseFloat(const std::string& name, const std::string& value, float minValue, float maxValue) {
+  char* end = nullptr;
+  const float v = std::strtof(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !(v >= minValue && v <= maxValue))
+    fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for device config token '" + name + "'");
+  return v;
+}
+
+// "x:y:z" (commas separate the config's tokens).
+Vec3f parsePoint(const std::string& name, const std::string& value) {
+  Vec3f p;
+  size_t start = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const size_t colon = value.find(':', start);
+    if ((axis < 2) != (colon != std::string::npos))
+      fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for device config token '" + name + "' (x:y:z)");
+    p[axis] = parseFloat(name, value.substr(start, colon - start), -3.4e38f, 3.4e38f);
+    start = colon + 1;
+  }
+  return p;
+}
+
 }  // namespace
 
 DeviceConfig parseDeviceConfig(const std::string& text) {
@@ -87,6 +109,21 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for ray_mask (on or off)");
     } else if (name == "spatial_budget") {
       config.spatialBudget = float(parseInt(name, value, 0, 400)) / 100.f;
+    } else if (name == "traversal_cost") {
+      config.traversalCost = parseFloat(name, value, 1e-3f, 1e3f);
+    } else if (name == "intersection_cost") {
+      config.intersectionCost = parseFloat(name, value, 1e-3f, 1e3f);
+    } else if (name == "builder") {
+      if (value == "sah") config.builder = TreeBuilder::Sah;
+      else if (value == "kmeans") config.builder = TreeBuilder::KMeans;
+      else if (value == "distance") config.builder = TreeBuilder::Distance;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown builder '" + value + "' (available: sah, kmeans, distance)");
+    } else if (name == "kmeans_k") {
+      config.kmeansArity = parseInt(name, value, 2, 8);
+    } else if (name == "distance_alpha") {
+      config.distanceAlpha = parseFloat(name, value, 0.f, 1.f);
+    } else if (name == "distance_source") {
+      config.distanceSource = parsePoint(name, value);
     } else if (name == "build_bins") {
       config.buildBins = parseInt(name, value, 2, 256);
     } else if (name == "max_leaf_size") {

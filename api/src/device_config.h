@@ -22,6 +22,12 @@ struct DeviceConfig {
   int obbBins = 32;
   int obbClusters = 0;
   float obbTestCost = 2.f;
+  float traversalCost = 1.f;     // SAH cost of a node visit (traversal_cost)
+  float intersectionCost = 1.f;  // SAH cost of a primitive test (intersection_cost)
+  TreeBuilder builder = TreeBuilder::Sah;
+  int kmeansArity = 0;           // 0: the layout's width (4 for bvh4, 8 for bvh8, 2 for bvh2)
+  float distanceAlpha = 0.5f;
+  Vec3f distanceSource{0.f, 0.f, 0.f};
   float spatialBudget = 1.f;  // RTC_BUILD_QUALITY_HIGH: extra references per triangle (spatial_budget, percent)
   // ray_mask=off: ignore ray and geometry masks, for programs written against builds without masks.
   bool rayMasks = true;

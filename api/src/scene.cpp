@@ -1,5 +1,8 @@
 #include "scene.h"
 
+#include <chrono>
+#include <cstdio>
+
 #include "api_error.h"
 
 namespace obvh::api {
@@ -181,19 +184,47 @@ void Scene::rebuild() {
                                                         : BuildQuality::Medium;
   options.spatialBudget = device_->config().spatialBudget;
   options.binCount = device_->config().buildBins;
+  options.traversalCost = device_->config().traversalCost;
+  options.intersectionCost = device_->config().intersectionCost;
+  options.builder = device_->config().builder;
+  const int layoutWidth = options.layout == AccelLayout::Bvh8 ? 8 : options.layout == AccelLayout::Bvh4 ? 4 : 2;
+  options.kmeansArity = device_->config().kmeansArity > 0 ? device_->config().kmeansArity : layoutWidth;
+  options.distanceAlpha = device_->config().distanceAlpha;
+  options.distanceSource = device_->config().distanceSource;
   options.maxLeafSize = device_->config().maxLeafSize;
   options.obbSplit = device_->config().obbSplit;
   options.obbBins = device_->config().obbBins;
   options.obbClusters = device_->config().obbClusters;
   options.obbTestCost = device_->config().obbTestCost;
+  const auto started = std::chrono::steady_clock::now();
+  bool refitted = false;
   device_->execute([&] {
-    if (!(refit && accel_.refit(desc, options))) accel_.build(desc, options);
+    refitted = refit && accel_.refit(desc, options);
+    if (!refitted) accel_.build(desc, options);
   });
   ++buildGeneration_;
+  if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
   const size_t memory = accel_.stats().memoryBytes;
   device_->reportMemory(ssize_t(memory) - ssize_t(reportedMemory_), true);
   reportedMemory_ = memory;
+}
+
+// verbose=2 prints each build as Embree does, with its SAH cost in Embree's convention
+// ("total : sah = ..."), so the two libraries' trees compare by one number.
+void Scene::printBuildStatistics(bool refitted, std::chrono::steady_clock::duration took) const {
+  const SceneStats stats = accel_.stats();
+  const AccelLayout layout = accel_.layout();
+  const char* layoutName = layout == AccelLayout::Bvh8   ? "bvh8"
+                           : layout == AccelLayout::Bvh4 ? "bvh4"
+                           : layout == AccelLayout::Bvh2 ? "bvh2"
+                           : layout == AccelLayout::Obb  ? "obb"
+                                                         : "hybrid";
+  std::printf("obvh: %s %s over %zu primitives in %.3f ms\n  total : sah = %.3f, %zu nodes, %zu leaves, %.2f MB\n",
+              refitted ? "refitted" : "built", layoutName, stats.primitiveCount,
+              std::chrono::duration<double, std::milli>(took).count(), accel_.statisticsSah(), stats.nodeCount,
+              stats.leafCount, double(stats.memoryBytes) / (1024.0 * 1024.0));
+  std::fflush(stdout);
 }
 
 void Scene::commit() {

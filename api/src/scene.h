@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 
 #include <atomic>
+#include <chrono>
 #include <mutex>
 #include <vector>
 
@@ -50,6 +51,7 @@ class Scene : public RefCounted {
   RTCScene handle() { return reinterpret_cast<RTCScene>(this); }
 
  private:
+  void printBuildStatistics(bool refitted, std::chrono::steady_clock::duration took) const;
   bool needsRebuild() const;
   void rebuild();
   bool wantsRefit() const;

@@ -1,6 +1,8 @@
 // Parameters of the SAH builders.
 #pragma once
 
+#include "math/vec3.h"
+
 namespace obvh {
 
 // How the binary tree is laid out for traversal: axis-aligned boxes (binary, four- or eight-wide),
@@ -15,6 +17,10 @@ enum class ObbSplit { AabbSah, Sah, Median, Midpoint };
 // binned SAH, High adds spatial splits (SBVH). The oriented layouts build as for Medium.
 enum class BuildQuality { Low, Medium, High };
 
+// Which builder makes the triangle tree of the axis-aligned layouts: the quality ladder above
+// (Sah), or one of the alternatives the benchmark compares with it (device config builder=...).
+enum class TreeBuilder { Sah, KMeans, Distance };
+
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
 
@@ -27,6 +33,10 @@ struct BuildOptions {
   int maxLeafSize = 4;
   float traversalCost = 1.0f;     // relative cost of one node visit
   float intersectionCost = 1.0f;  // relative cost of one primitive test
+  TreeBuilder builder = TreeBuilder::Sah;
+  int kmeansArity = 8;            // KMeans: clusters per node (the device picks the layout's width)
+  float distanceAlpha = 0.5f;     // Distance: weight of the SAH term against the distance term
+  Vec3f distanceSource{0.f, 0.f, 0.f};  // Distance: where the rays start
   int leafBlockSize = 1;          // primitives tested together (SIMD leaf blocks); the SAH counts whole blocks
   // Oriented layouts.
   ObbSplit obbSplit = ObbSplit::AabbSah;  // measured best on every slanted stack preset (README)

@@ -6,9 +6,12 @@
 #include <cmath>
 
 #include "builders/binned_sah_builder.h"
+#include "builders/distance_sah_builder.h"
+#include "builders/kmeans_builder.h"
 #include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
 #include "builders/spatial_split_builder.h"
+#include "bvh/tree_statistics.h"
 #include "bvh/oriented_layout.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
@@ -103,6 +106,10 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
   if (oriented && options.obbSplit != ObbSplit::AabbSah) {
     triangleBvh_ = buildInObbFrames(collected.refs, collected.triangles.data(), triangleOptions);
+  } else if (!oriented && options.builder == TreeBuilder::KMeans) {
+    triangleBvh_ = buildKMeans(collected.refs, triangleOptions);
+  } else if (!oriented && options.builder == TreeBuilder::Distance) {
+    triangleBvh_ = buildDistanceSah(collected.refs, triangleOptions);
   } else if (!oriented && options.quality == BuildQuality::High) {
     SpatialSplitSettings settings;
     settings.referenceBudget = options.spatialBudget;
@@ -212,7 +219,10 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
          a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
-         a.quality == b.quality && a.spatialBudget == b.spatialBudget;
+         a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.traversalCost == b.traversalCost &&
+         a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
+         a.distanceAlpha == b.distanceAlpha && a.distanceSource.x == b.distanceSource.x &&
+         a.distanceSource.y == b.distanceSource.y && a.distanceSource.z == b.distanceSource.z;
 }
 
 }  // namespace
@@ -437,6 +447,12 @@ SceneStats SceneAccel::stats() const {
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +
                   triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame);
   return s;
+}
+
+double SceneAccel::statisticsSah() const {
+  if (layout_ == AccelLayout::Bvh8) return obvh::statisticsSah(triangleBvh8_);
+  if (layout_ == AccelLayout::Bvh4) return obvh::statisticsSah(triangleBvh4_);
+  return obvh::statisticsSah(triangleBvh_);
 }
 
 LayoutMetrics SceneAccel::triangleLayoutMetrics() const {

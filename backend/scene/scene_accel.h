@@ -50,6 +50,9 @@ class SceneAccel {
   // Return the mask of lanes that hit / are occluded.
   uint32_t intersectPacket(Ray* rays, Hit* hits, uint32_t active, const QueryState& state) const;
   uint32_t occludedPacket(const Ray* rays, uint32_t active, const QueryState& state) const;
+  // The triangle tree's SAH cost as Embree's verbose statistics compute it (bvh/tree_statistics.h);
+  // the oriented layouts report their binary tree's.
+  double statisticsSah() const;
   // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary tree).
   LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when

@@ -85,7 +85,9 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
                              "accel=bvh2,intersector=watertight,build_bins=16,max_leaf_size=2", "accel=bvh4",
                              "intersector=fast", "ray_mask=off", "accel=obb", "accel=hybrid,obb_split=median",
                              "accel=obb,obb_split=midpoint,obb_bins=100,obb_clusters=1000,obb_cost=15",
-                             "accel=hybrid,obb_split=aabb"}) {
+                             "accel=hybrid,obb_split=aabb", "builder=kmeans,kmeans_k=4", "builder=sah",
+                             "builder=distance,distance_alpha=0.25,distance_source=1.5:-2:3e2",
+                             "traversal_cost=2.5,intersection_cost=0.5"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -96,7 +98,9 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
 TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
   for (const char* config : {"threads=-1", "accel=bvh16", "accel=nonsense", "intersector=foo",
                              "build_bins=1", "max_leaf_size=x", "ray_mask=maybe", "obb_split=best", "obb_bins=1",
-                             "obb_clusters=-1", "obb_cost=0"}) {
+                             "obb_clusters=-1", "obb_cost=0", "builder=octree", "kmeans_k=9", "kmeans_k=1",
+                             "distance_alpha=1.5", "distance_alpha=x", "distance_source=1:2", "distance_source=1:2:3:4",
+                             "distance_source=a:b:c", "traversal_cost=0", "intersection_cost=-1"}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;
   }

@@ -8,6 +8,8 @@
 #include <random>
 
 #include "builders/binned_sah_builder.h"
+#include "builders/distance_sah_builder.h"
+#include "builders/kmeans_builder.h"
 #include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
 #include "scene/primitive_collection.h"
@@ -85,6 +87,27 @@ TEST(BuildDeterminism, MortonTreeIsTheSameOnOneAndTwoThreads) {
         EXPECT_TRUE(node.bounds.lower.x <= b.lower.x && node.bounds.upper.y >= b.upper.y);
       }
     }
+  }
+}
+
+// The alternative builders (builder=kmeans, builder=distance) sum floating-point centroids in
+// parallel: their reductions run in a fixed order, so the trees still match.
+TEST(BuildDeterminism, KMeansAndDistanceTreesAreTheSameOnOneAndTwoThreads) {
+  const test::MeshData soup = bigSoup();
+  const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
+  BuildOptions options;
+  options.distanceAlpha = 0.3f;
+  options.distanceSource = {0.2f, 0.7f, 0.4f};
+  for (auto builder : {buildKMeans, buildDistanceSah}) {
+    const auto build = [&](int threads) {
+      return withThreads(threads, [&] {
+        std::vector<PrimRef> refs = collected.refs;
+        return builder(refs, options);
+      });
+    };
+    const BinaryBvh one = build(1), two = build(2);
+    ASSERT_EQ(one.nodes.size(), two.nodes.size());
+    expectSameTree(one, 0, two, 0);
   }
 }
 

@@ -69,15 +69,20 @@ INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
 
 // Every build quality, both libraries at the same level: HIGH is obvh's spatial-split builder
 // (triangles referenced from several leaves), on long slanted lines where it splits the most.
-TEST(CrossvalIntersect, EveryBuildQualityMatchesEmbree) {
-  const LoadedLibraries& libs = libraries();
+// Axis-aligned blocks with vias (many coplanar faces) plus a random soup.
+SceneData viasStackWithSoup(uint32_t soupSeed) {
   const tools::StackPreset* preset = tools::findStackPreset("vias-5.6k");
-  ASSERT_NE(preset, nullptr);
   const tools::StackScene stack = tools::generateStack(preset->params, preset->name);
   SceneData scene;
   scene.name = "vias stack + soup";
   scene.meshes = stack.groups;
-  scene.meshes.push_back(randomTriangleSoup(3000, 31));
+  scene.meshes.push_back(randomTriangleSoup(3000, soupSeed));
+  return scene;
+}
+
+TEST(CrossvalIntersect, EveryBuildQualityMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  const SceneData scene = viasStackWithSoup(31);
   for (RTCBuildQuality quality : {RTC_BUILD_QUALITY_LOW, RTC_BUILD_QUALITY_MEDIUM, RTC_BUILD_QUALITY_HIGH}) {
     tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene, RTC_SCENE_FLAG_NONE, quality);
     tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene, RTC_SCENE_FLAG_NONE, quality);
@@ -85,6 +90,23 @@ TEST(CrossvalIntersect, EveryBuildQualityMatchesEmbree) {
     const std::string level = "quality " + std::to_string(int(quality));
     expectNoMismatch(level.c_str(), compareCommitted(scene, reference, candidate, rays));
     expectNoMismatch((level + " occlusion").c_str(), compareCommittedOcclusion(scene, reference, candidate, rays));
+  }
+}
+
+// The alternative builders (builder=kmeans, builder=distance) in the default layout and in bvh4.
+TEST(CrossvalIntersect, AlternativeBuildersMatchEmbree) {
+  const LoadedLibraries& libs = libraries();
+  const SceneData scene = viasStackWithSoup(37);
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  const std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 57);
+  for (const char* config : {"builder=kmeans", "builder=kmeans,kmeans_k=4,accel=bvh4", "builder=kmeans,accel=bvh2",
+                             "builder=distance,distance_alpha=0.5,distance_source=0.2:0.3:0.1",
+                             "builder=distance,distance_alpha=0,accel=bvh4"}) {
+    const ObvhDevice device(config);
+    ASSERT_NE(device.get(), nullptr) << config;
+    tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
+    expectNoMismatch(config, compareCommitted(scene, reference, candidate, rays));
+    expectNoMismatch((std::string(config) + " occlusion").c_str(), compareCommittedOcclusion(scene, reference, candidate, rays));
   }
 }
 

@@ -16,6 +16,7 @@
 
 #include "accuracy_report.h"
 #include "build_quality.h"
+#include "build_statistics.h"
 #include "hit_compare.h"
 #include "image_io.h"
 #include "mesh_loader.h"
@@ -39,15 +40,19 @@ struct Options {
   std::string outDir = "out";
   RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;  // of the scene every workload traces
   int threads = 0;  // build and trace threads of every device (0: all)
+  bool hasSource = false;  // --source: where the point-source rays start (default: the scene's centre)
+  float source[3] = {0.f, 0.f, 0.f};
 };
 
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
                "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
-               "[--out DIR] [--quality low|medium|high] [--threads N]\n"
+               "[--out DIR] [--quality low|medium|high] [--threads N] [--source X,Y,Z]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
+               "  --source: start of the point-source (transmitter) rays; default: the centre of the scene.\n"
+               "  obvh's devices also take OBVH_CONFIG, e.g. OBVH_CONFIG=builder=kmeans.\n"
                "  default scene: %s (Debian package glmark2-data)\n",
                kDefaultScenePath);
   std::exit(error ? 2 : 0);
@@ -75,6 +80,12 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--random-rays") o.randomRays = size_t(parsePositive("--random-rays", value, 1L << 28));
     else if (arg == "--out") o.outDir = value;
     else if (arg == "--threads") o.threads = int(parsePositive("--threads", value, 1024));
+    else if (arg == "--source") {
+      char extra = 0;
+      if (std::sscanf(value, "%f,%f,%f%c", &o.source[0], &o.source[1], &o.source[2], &extra) != 3)
+        usage(("--source takes X,Y,Z, not " + std::string(value)).c_str());
+      o.hasSource = true;
+    }
     else if (arg == "--quality") {
       if (!parseBuildQuality(value, o.quality))
         usage(("--quality takes low, medium or high, not " + std::string(value)).c_str());
@@ -108,6 +119,7 @@ struct LibraryRun {
   double buildMs = 0;
   double refitMs = 0;
   double lowBuildMs = 0;
+  double sah = 0;               // as the library's verbose=2 statistics report it
   std::vector<Result> results;  // one per workload, in table order
 };
 
@@ -240,6 +252,13 @@ int main(int argc, char** argv) {
           throw std::runtime_error(run.lib->label + ": committing the scene failed");
       }
       run.buildMs = median(buildTimes);
+      // A separate verbose device: its statistics go to standard output, which is captured.
+      const std::string verbose = run.config + (run.config.empty() ? "" : ",") + "verbose=2";
+      run.sah = statisticsSahFromLog(captureStandardOutput([&] {
+        RTCDevice device = run.lib->rtcNewDevice(verbose.c_str());
+        { CommittedScene measured(*run.lib, device, scene, RTC_SCENE_FLAG_NONE, options.quality); }
+        run.lib->rtcReleaseDevice(device);
+      }));
       run.refitMs = refitMilliseconds(*run.lib, run.device, scene, options.runs);
       std::vector<double> lowTimes;
       for (int r = 0; r < options.runs; ++r)
@@ -253,10 +272,14 @@ int main(int argc, char** argv) {
     const std::vector<RTCRay> perspective = perspectiveRays(box, options.width, options.height);
     const std::vector<RTCRay> orthographic = orthographicRays(box, options.width, options.height);
     const std::vector<RTCRay> random = randomRays(box, options.randomRays, 12345u);
+    float source[3];
+    for (int k = 0; k < 3; ++k) source[k] = options.hasSource ? options.source[k] : 0.5f * (box.lower[k] + box.upper[k]);
+    const std::vector<RTCRay> fromSource = pointSourceRays(source, options.randomRays, 4242u);
     std::vector<Workload> workloads = {{"primary perspective", Query::Intersect1, &perspective},
                                        {"primary perspective, packets of 8", Query::Intersect8, &perspective},
                                        {"primary orthographic", Query::Intersect1, &orthographic},
-                                       {"random (incoherent)", Query::Intersect1, &random}};
+                                       {"random (incoherent)", Query::Intersect1, &random},
+                                       {"from a point source", Query::Intersect1, &fromSource}};
     for (LibraryRun& run : runs)
       for (const Workload& w : workloads) run.results.push_back(trace(run, w, options.runs));
     // Secondary rays start from Embree's primary hits so both libraries answer the very same rays.
@@ -283,11 +306,13 @@ int main(int argc, char** argv) {
                 options.runs, int(std::thread::hardware_concurrency()));
     if (options.threads > 0)
       std::printf("  devices built with threads=%d; rays are traced on every core either way\n", options.threads);
+    std::printf("  point source at %g,%g,%g\n", double(source[0]), double(source[1]), double(source[2]));
     std::printf("  %-42s %10s %10s %10s %10s %10s\n", "", "embree", "obvh", "speed", "obvh fast", "speed");
     const char* qualityName = options.quality == RTC_BUILD_QUALITY_HIGH  ? "build ms (RTC_BUILD_QUALITY_HIGH)"
                               : options.quality == RTC_BUILD_QUALITY_LOW ? "build ms (RTC_BUILD_QUALITY_LOW)"
                                                                          : "build ms";
     printRow(qualityName, runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
+    printRow("SAH cost (verbose=2 statistics)", runs[0].sah, runs[1].sah, runs[2].sah, true);
     printRow("build ms, RTC_BUILD_QUALITY_LOW", runs[0].lowBuildMs, runs[1].lowBuildMs, runs[2].lowBuildMs, true);
     printRow("refit ms (RTC_BUILD_QUALITY_REFIT)", runs[0].refitMs, runs[1].refitMs, runs[2].refitMs, true);
     for (size_t k = 0; k < workloads.size(); ++k)

@@ -109,6 +109,19 @@ std::vector<RTCRay> randomRays(const SceneBox& box, size_t count, uint32_t seed)
   return rays;
 }
 
+std::vector<RTCRay> pointSourceRays(const float source[3], size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> normal;
+  std::vector<RTCRay> rays;
+  rays.reserve(count);
+  for (size_t i = 0; i < count; ++i) {
+    float dir[3] = {normal(rng), normal(rng), normal(rng)};
+    if (dir[0] == 0.f && dir[1] == 0.f && dir[2] == 0.f) dir[2] = 1.f;
+    rays.push_back(makeRay(source, dir));
+  }
+  return rays;
+}
+
 std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::vector<float>& hitT,
                                const float light[3]) {
   std::vector<RTCRay> rays(primary.size());

@@ -22,6 +22,9 @@ std::vector<RTCRay> orthographicRays(const SceneBox& box, int width, int height)
 // Random origins around the box aimed at random points inside it (incoherent), seeded.
 std::vector<RTCRay> randomRays(const SceneBox& box, size_t count, uint32_t seed);
 
+// Rays leaving one point (a transmitter) in uniformly distributed directions, seeded.
+std::vector<RTCRay> pointSourceRays(const float source[3], size_t count, uint32_t seed);
+
 // Rays from the hit points of primary rays towards a point light (shadow rays); misses get tfar < tnear.
 std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::vector<float>& hitT,
                                const float light[3]);
