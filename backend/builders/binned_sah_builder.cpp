@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 
+#include "memory/huge_pages.h"
 #include "simd/float4_sse.h"
 
 namespace obvh {
@@ -151,10 +152,12 @@ class BinnedSahBuilder {
     out_.nodes.clear();
     out_.primIndices.clear();
     if (n == 0) return;
+    reserveWithHugePages(out_.nodes, 2 * n - 1);
     out_.nodes.resize(2 * n - 1);
     nodeCount_ = 1;
     buildNode(0, 0, n, rangeInfo(0, n), 0);
     out_.nodes.resize(nodeCount_.load());
+    reserveWithHugePages(out_.primIndices, n);
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
   }

@@ -1,6 +1,7 @@
 #include <limits>
 
 #include "bvh/wide_bvh.h"
+#include "memory/huge_pages.h"
 
 namespace obvh {
 namespace {
@@ -85,8 +86,8 @@ template <int N>
 WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder) {
   WideBvh<N> out;
   if (binary.empty()) return out;
-  out.nodes.reserve(binary.nodes.size() / (N / 2 + 1) + 1);
-  out.blocks.reserve(binary.primIndices.size() / 3 + 1);
+  reserveWithHugePages(out.nodes, binary.nodes.size() / (N / 2 + 1) + 1);
+  reserveWithHugePages(out.blocks, binary.primIndices.size() / 3 + 1);
   out.rootChild = Collapser<N>(binary, trianglesInLeafOrder, out).collapse(0);
   return out;
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "memory/huge_pages.h"
+
 namespace obvh {
 namespace {
 
@@ -60,8 +62,8 @@ CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
   }
 
   CollectedPrimitives out;
-  out.triangles.reserve(slotCount);
-  out.refs.reserve(slotCount);
+  reserveWithHugePages(out.triangles, slotCount);
+  reserveWithHugePages(out.refs, slotCount);
   for (size_t s = 0; s < slotCount; ++s) {
     if (!valid[s]) continue;
     const StoredTriangle& tri = slots[s];

@@ -13,6 +13,7 @@
 #include "builders/spatial_split_builder.h"
 #include "bvh/tree_statistics.h"
 #include "bvh/oriented_layout.h"
+#include "memory/huge_pages.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
 #include "traversal/bvh2_traverse.h"
@@ -119,6 +120,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   } else {
     triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
   }
+  reserveWithHugePages(triangles_, triangleBvh_.primIndices.size());
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });
