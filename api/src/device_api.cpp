@@ -24,7 +24,8 @@ ssize_t queryProperty(const Device& device, int prop) {
     case RTC_DEVICE_PROPERTY_BACKFACE_CULLING_CURVES_ENABLED: return 0;
     case RTC_DEVICE_PROPERTY_RAY_MASK_SUPPORTED: return device.config().rayMasks ? 1 : 0;
     case RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED: return 0;
-    // Not yet: subdivision, curves and points come later.
+    // Of curves and points obvh has flat linear curves and sphere points only: these two
+    // properties promise every curve and point type, so they stay 0.
     case RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED: return 1;
     case RTC_DEVICE_PROPERTY_IGNORE_INVALID_RAYS_ENABLED: return 0;
     case RTC_DEVICE_PROPERTY_COMPACT_POLYS_ENABLED: return 0;

@@ -131,16 +131,19 @@ BufferView& Geometry::view(int type, unsigned slot) {
 
 void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>& buffer,
                          size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
-  if (!isMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+  if (!isMesh() && !isShape()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   switch (type) {
-    case RTC_BUFFER_TYPE_INDEX:
+    case RTC_BUFFER_TYPE_INDEX: {
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
-      if (format != (isQuadMesh() ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3))
-        fail(RTC_ERROR_INVALID_OPERATION, "invalid index buffer format");
+      if (type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      const int indexFormat = isQuadMesh() ? RTC_FORMAT_UINT4 : isShape() ? RTC_FORMAT_UINT : RTC_FORMAT_UINT3;
+      if (format != indexFormat) fail(RTC_ERROR_INVALID_OPERATION, "invalid index buffer format");
       break;
+    }
     case RTC_BUFFER_TYPE_VERTEX:
       if (slot >= vertices_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid vertex buffer slot");
-      if (format != RTC_FORMAT_FLOAT3) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex buffer format");
+      if (format != (isShape() ? RTC_FORMAT_FLOAT4 : RTC_FORMAT_FLOAT3))
+        fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex buffer format");
       break;
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer slot");

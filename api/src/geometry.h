@@ -1,4 +1,4 @@
-// RTCGeometry: type, buffers, state and per-geometry settings (this slice: triangle and quad meshes).
+// RTCGeometry: type, buffers, state and per-geometry settings.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -86,6 +86,8 @@ class Geometry : public RefCounted {
   const BufferView& vertexBuffer() const { return vertices_[0]; }
   bool isQuadMesh() const { return type_ == RTC_GEOMETRY_TYPE_QUAD; }
   bool isMesh() const { return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD; }
+  // Sphere points and flat linear curves: float4 vertices (position and radius).
+  bool isShape() const { return type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || type_ == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE; }
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
   const BufferView& attributeBuffer(unsigned slot) const;
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 
 #include "api_error.h"
 
@@ -89,6 +90,29 @@ MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
   return mesh;
 }
 
+// Sphere points and flat linear curves: their float4 vertices (and a curve's segment indices) are
+// copied, as the backend keeps its own copy of every primitive it intersects.
+ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
+  ShapeGeometryDesc desc;
+  desc.kind = g.type() == RTC_GEOMETRY_TYPE_SPHERE_POINT ? ShapeKind::Sphere : ShapeKind::FlatLinearCurve;
+  desc.geomID = geomID;
+  desc.mask = g.mask();
+  const BufferView& vertex = g.vertexBuffer();
+  if (!vertex.data()) return desc;
+  desc.vertices.resize(vertex.itemCount);
+  for (size_t i = 0; i < vertex.itemCount; ++i) {
+    float v[4];
+    std::memcpy(v, vertex.data() + i * vertex.byteStride, sizeof v);
+    desc.vertices[i] = {{v[0], v[1], v[2]}, v[3]};
+  }
+  const BufferView& index = g.indexBuffer();
+  if (desc.kind == ShapeKind::FlatLinearCurve && index.data()) {
+    desc.segments.resize(index.itemCount);
+    for (size_t i = 0; i < index.itemCount; ++i) std::memcpy(&desc.segments[i], index.data() + i * index.byteStride, 4);
+  }
+  return desc;
+}
+
 UserGeometryDesc userGeometryOf(const Geometry& g, uint32_t geomID) {
   UserGeometryDesc desc;
   desc.geomID = geomID;
@@ -153,6 +177,10 @@ void Scene::rebuild() {
         if (g->indexBuffer().bound() && g->vertexBuffer().bound() && g->indexBuffer().data() && g->vertexBuffer().data())
           desc.meshes.push_back(meshOf(*g, uint32_t(id)));
         break;
+      case RTC_GEOMETRY_TYPE_SPHERE_POINT:
+      case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
+        desc.shapes.push_back(shapeOf(*g, uint32_t(id)));
+        break;
       case RTC_GEOMETRY_TYPE_USER:
         desc.userGeometries.push_back(userGeometryOf(*g, uint32_t(id)));
         needsCallbacks_ = true;
@@ -173,6 +201,7 @@ void Scene::rebuild() {
   }
   if (masksOff) {
     for (MeshDesc& m : desc.meshes) m.mask = 0xFFFFFFFFu;
+    for (ShapeGeometryDesc& s : desc.shapes) s.mask = 0xFFFFFFFFu;
     for (InstanceDesc& i : desc.instances) i.mask = 0xFFFFFFFFu;
     for (UserGeometryDesc& u : desc.userGeometries) u.mask = 0xFFFFFFFFu;
   }

@@ -88,6 +88,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   for (const MeshDesc& mesh : desc.meshes) geometryMasks_[mesh.geomID] = mesh.mask;
   for (const InstanceDesc& inst : desc.instances) geometryMasks_[inst.geomID] = inst.mask;
   for (const UserGeometryDesc& user : desc.userGeometries) geometryMasks_[user.geomID] = user.mask;
+  for (const ShapeGeometryDesc& shape : desc.shapes) geometryMasks_[shape.geomID] = shape.mask;
   intersectFiltered_ = desc.intersectFiltered;
   occlusionFiltered_ = desc.occlusionFiltered;
   intersectFiltered_.resize(desc.geometryIdLimit, 0);
@@ -146,6 +147,26 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
       objectRefs.push_back({user.primitiveBounds[prim], uint32_t(objects.size())});
       objects.push_back({ObjectKind::UserPrimitive, user.geomID, uint32_t(prim), user.primitiveBounds[prim]});
     }
+  shapes_.clear();
+  for (const ShapeGeometryDesc& geometry : desc.shapes) {
+    const bool curve = geometry.kind == ShapeKind::FlatLinearCurve;
+    const size_t count = curve ? geometry.segments.size() : geometry.vertices.size();
+    for (size_t prim = 0; prim < count; ++prim) {
+      ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), {}, {}};
+      if (curve) {
+        const size_t first = geometry.segments[prim];
+        if (first + 1 >= geometry.vertices.size()) continue;
+        shape.a = geometry.vertices[first], shape.b = geometry.vertices[first + 1];
+      } else {
+        shape.a = shape.b = geometry.vertices[prim];
+      }
+      const Box3f bounds = curve ? segmentBounds(shape.a, shape.b) : sphereBounds(shape.a);
+      if (!isUsableBox(bounds)) continue;
+      objectRefs.push_back({bounds, uint32_t(objects.size())});
+      objects.push_back({ObjectKind::Shape, uint32_t(shapes_.size()), uint32_t(prim), bounds});
+      shapes_.push_back(shape);
+    }
+  }
   objectBvh_ = buildBinnedSah(objectRefs, options);
   objects_.resize(objectBvh_.primIndices.size());
   for (size_t i = 0; i < objects_.size(); ++i) objects_[i] = objects[objectBvh_.primIndices[i]];
@@ -232,7 +253,7 @@ bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
 bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
   if (triangleBvh_.empty() || !sameOptions(options, requested_)) return false;
   if (layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid) return false;
-  if (!desc.instances.empty() || !desc.userGeometries.empty() || !objects_.empty()) return false;
+  if (!desc.instances.empty() || !desc.userGeometries.empty() || !desc.shapes.empty() || !objects_.empty()) return false;
   if (desc.geometryIdLimit != geometryMasks_.size()) return false;
   std::vector<uint8_t> intersectFiltered = desc.intersectFiltered, occlusionFiltered = desc.occlusionFiltered;
   intersectFiltered.resize(desc.geometryIdLimit, 0);
@@ -264,7 +285,31 @@ Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {
   return local;
 }
 
+bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state,
+                                bool occlusion) const {
+  if ((geometryMasks_[shape.geomID] & ray.mask) == 0) return false;
+  ShapeHit sh;
+  const bool found = shape.kind == ShapeKind::Sphere ? intersectSphere(ray, shape.a, sh) : intersectFlatSegment(ray, shape.a, shape.b, sh);
+  if (!found) return false;
+  Hit candidate;
+  candidate.Ng = sh.Ng;
+  candidate.u = sh.u;
+  candidate.v = 0.f;
+  candidate.geomID = shape.geomID;
+  candidate.primID = shape.primID;
+  candidate.instID = state.instID;
+  const std::vector<uint8_t>& filtered = occlusion ? occlusionFiltered_ : intersectFiltered_;
+  if (needsFilter(filtered.data(), shape.geomID, state) && !state.callbacks->acceptHit(owner_, ray, candidate, sh.t, occlusion))
+    return false;
+  if (!occlusion) {
+    ray.tfar = sh.t;
+    hit = candidate;
+  }
+  return true;
+}
+
 bool SceneAccel::intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const {
+  if (object.kind == ObjectKind::Shape) return intersectShape(shapes_[object.index], ray, hit, state, false);
   if (object.kind == ObjectKind::UserPrimitive) {
     if ((geometryMasks_[object.index] & ray.mask) == 0 || !state.callbacks) return false;
     return state.callbacks->intersectUser(owner_, object.index, object.primID, ray, hit, state);
@@ -281,6 +326,11 @@ bool SceneAccel::intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, co
 }
 
 bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const {
+  if (object.kind == ObjectKind::Shape) {
+    Ray copy = ray;
+    Hit unused;
+    return intersectShape(shapes_[object.index], copy, unused, state, true);
+  }
   if (object.kind == ObjectKind::UserPrimitive) {
     if ((geometryMasks_[object.index] & ray.mask) == 0 || !state.callbacks) return false;
     Ray copy = ray;
@@ -423,6 +473,11 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
         changed |= callbacks.visit(owner_, object.index, object.primID, instance);
         continue;
       }
+      if (object.kind == ObjectKind::Shape) {
+        const ShapePrimitive& shape = shapes_[object.index];
+        changed |= callbacks.visit(owner_, shape.geomID, shape.primID, instance);
+        continue;
+      }
       if (instance) continue;  // one instance level, as for rays
       const Instance& inst = instances_[object.index];
       const PointQueryInstance frame{inst.geomID, &inst.localToWorld, inst.similarityScale};
@@ -446,6 +501,7 @@ SceneStats SceneAccel::stats() const {
                   (triangleBvh4_.blocks.size() + triangleBvh8_.blocks.size()) * sizeof(TriangleBlock4) +
                   objectBvh_.nodes.size() * sizeof(Bvh2Node) + triangles_.size() * sizeof(StoredTriangle) +
                   objects_.size() * sizeof(ObjectRef) + instances_.size() * sizeof(Instance) +
+                  shapes_.size() * sizeof(ShapePrimitive) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +
                   triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame);
   return s;

@@ -61,10 +61,10 @@ class SceneAccel {
                   float radiusScale = 1.f) const;
 
  private:
-  enum class ObjectKind : uint32_t { Instance, UserPrimitive };
+  enum class ObjectKind : uint32_t { Instance, UserPrimitive, Shape };
   struct ObjectRef {
     ObjectKind kind;
-    uint32_t index;   // into instances_ (Instance) or the geomID (UserPrimitive)
+    uint32_t index;   // into instances_ (Instance), the geomID (UserPrimitive) or into shapes_ (Shape)
     uint32_t primID;  // UserPrimitive only
     Box3f bounds;     // world bounds, for point queries
   };
@@ -77,7 +77,15 @@ class SceneAccel {
     float radiusToLocal;    // bound on how much worldToLocal stretches lengths
   };
 
+  // A sphere, or a flat curve segment (its two vertices).
+  struct ShapePrimitive {
+    ShapeKind kind;
+    uint32_t geomID, primID;
+    ShapeVertex a, b;
+  };
+
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
+  bool intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state, bool occlusion) const;
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
   bool orientedBoxesPayOff() const;
   void makeTriangleViews();
@@ -101,6 +109,7 @@ class SceneAccel {
   BinaryBvh objectBvh_;
   std::vector<ObjectRef> objects_;
   std::vector<Instance> instances_;
+  std::vector<ShapePrimitive> shapes_;
 
   std::vector<uint32_t> geometryMasks_;
   std::vector<uint8_t> intersectFiltered_, occlusionFiltered_;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "intersect/shapes.h"
 #include "math/affine.h"
 #include "scene/mesh_desc.h"
 
@@ -25,10 +26,21 @@ struct UserGeometryDesc {
   std::vector<Box3f> primitiveBounds;  // an empty or non-finite box skips the primitive
 };
 
+// Embree's sphere points and flat linear curves, which obvh intersects itself (intersect/shapes.h).
+enum class ShapeKind { Sphere, FlatLinearCurve };
+struct ShapeGeometryDesc {
+  ShapeKind kind = ShapeKind::Sphere;
+  uint32_t geomID = 0;
+  uint32_t mask = 0xFFFFFFFFu;
+  std::vector<ShapeVertex> vertices;
+  std::vector<uint32_t> segments;  // curves: each segment's first vertex (the second follows it)
+};
+
 struct SceneDesc {
   std::vector<MeshDesc> meshes;
   std::vector<InstanceDesc> instances;
   std::vector<UserGeometryDesc> userGeometries;
+  std::vector<ShapeGeometryDesc> shapes;
   uint32_t geometryIdLimit = 0;               // one more than the largest geomID
   std::vector<uint8_t> intersectFiltered;     // per geomID: has an intersection filter
   std::vector<uint8_t> occlusionFiltered;     // per geomID: has an occlusion filter
