@@ -4,19 +4,29 @@
 
 #include "traversal_statistics_state.h"
 
+#include <atomic>
+
 namespace obvh::api {
 
 namespace {
 thread_local bool counting = false;
 thread_local TraversalCounters counters;
+// Threads counting now. Every query asks for its thread's counters; reading this first spares the
+// thread-local lookup (a call into the dynamic loader from a shared library) while nobody counts.
+std::atomic<int> countingThreads{0};
 }  // namespace
 
-TraversalCounters* threadTraversalCounters() { return counting ? &counters : nullptr; }
+TraversalCounters* threadTraversalCounters() {
+  if (countingThreads.load(std::memory_order_relaxed) == 0) return nullptr;
+  return counting ? &counters : nullptr;
+}
 
 }  // namespace obvh::api
 
 extern "C" __attribute__((visibility("default"))) void obvhEnableTraversalStatistics(int enable) {
-  obvh::api::counting = enable != 0;
+  const bool counting = enable != 0;
+  if (counting != obvh::api::counting) obvh::api::countingThreads.fetch_add(counting ? 1 : -1);
+  obvh::api::counting = counting;
   obvh::api::counters = {};
 }
 

@@ -14,25 +14,24 @@ struct alignas(64) TriangleBlock4 {
   float v[3][3][4];  // v[vertex][axis][lane]
   uint32_t geomID[4];
   uint32_t primID[4];
-  TriangleKind kind[4];
+  uint8_t kind[4];        // TriangleKind per lane (one byte keeps the block at three cache lines)
+  uint8_t usedMask = 0;   // bit per lane holding a triangle, read by every test of the block
 
-  int usedLanes() const {
-    int m = 0;
-    for (int lane = 0; lane < 4; ++lane) m |= int(geomID[lane] != kUnusedLane) << lane;
-    return m;
-  }
+  int usedLanes() const { return usedMask; }
   void setLane(int lane, const StoredTriangle& tri) {
     const Vec3f* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
     for (int vertex = 0; vertex < 3; ++vertex)
       for (int axis = 0; axis < 3; ++axis) v[vertex][axis][lane] = (*corners[vertex])[axis];
     geomID[lane] = tri.geomID;
     primID[lane] = tri.primID;
-    kind[lane] = tri.kind;
+    kind[lane] = uint8_t(tri.kind);
+    usedMask = uint8_t(usedMask | (1u << lane));
   }
-  // Padding lanes repeat a used lane's vertices (finite arithmetic) and are masked out by geomID.
+  // Padding lanes repeat a used lane's vertices (finite arithmetic) and are left out of usedMask.
   void setUnusedLane(int lane, const StoredTriangle& someTriangle) {
     setLane(lane, someTriangle);
     geomID[lane] = kUnusedLane;
+    usedMask = uint8_t(usedMask & ~(1u << lane));
   }
   StoredTriangle triangle(int lane) const {
     StoredTriangle tri;
@@ -41,9 +40,10 @@ struct alignas(64) TriangleBlock4 {
     tri.v2 = {v[2][0][lane], v[2][1][lane], v[2][2][lane]};
     tri.geomID = geomID[lane];
     tri.primID = primID[lane];
-    tri.kind = kind[lane];
+    tri.kind = TriangleKind(kind[lane]);
     return tri;
   }
 };
+static_assert(sizeof(TriangleBlock4) == 192, "a block is three cache lines");
 
 }  // namespace obvh

@@ -9,18 +9,17 @@
 namespace obvh {
 
 template <int N>
+struct WideKernels;
+
+template <int N>
 struct TriangleWideView {
   const WideNode<N>* nodes = nullptr;
   const TriangleBlock4* blocks = nullptr;
   uint32_t root = WideNode<N>::kEmptyChild;
   TriangleSet set;
+  const WideKernels<N>* kernels = nullptr;  // the CPU's best, chosen once per view, not per query
   bool empty() const { return root == WideNode<N>::kEmptyChild; }
 };
-
-template <int N>
-TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set) {
-  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set};
-}
 
 // Packets: up to kMaxPacketSize rays, lane i active when bit i of active is set.
 constexpr int kMaxPacketSize = 16;
@@ -57,30 +56,58 @@ const WideKernels<N>& wideKernels(KernelIsa isa) {
   else return isa == KernelIsa::Simd ? bvh8Avx2Kernels() : bvh8ScalarKernels();
 }
 
-// Both count into state.counters when it is set.
+template <int N>
+TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set) {
+  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N))};
+}
+
+// Both count into state.counters when it is set. Without an isa, the view's kernels run.
 template <int N>
 bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state,
-                          KernelIsa isa = bestKernelIsa(N)) {
-  const WideKernels<N>& k = wideKernels<N>(isa);
+                          const WideKernels<N>& k) {
   return state.counters ? k.closestCounted(bvh, ray, hit, state) : k.closest(bvh, ray, hit, state);
+}
+template <int N>
+bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
+  return intersectClosestWide(bvh, ray, hit, state, *bvh.kernels);
+}
+template <int N>
+bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state, KernelIsa isa) {
+  return intersectClosestWide(bvh, ray, hit, state, wideKernels<N>(isa));
 }
 
 template <int N>
-bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state,
-                      KernelIsa isa = bestKernelIsa(N)) {
-  const WideKernels<N>& k = wideKernels<N>(isa);
+bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state, const WideKernels<N>& k) {
   return state.counters ? k.anyCounted(bvh, ray, state) : k.any(bvh, ray, state);
+}
+template <int N>
+bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state) {
+  return intersectAnyWide(bvh, ray, state, *bvh.kernels);
+}
+template <int N>
+bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state, KernelIsa isa) {
+  return intersectAnyWide(bvh, ray, state, wideKernels<N>(isa));
 }
 
 template <int N>
 uint32_t intersectClosestWidePacket(const TriangleWideView<N>& bvh, Ray* rays, Hit* hits, uint32_t active,
-                                    const QueryState& state, KernelIsa isa = bestKernelIsa(N)) {
+                                    const QueryState& state) {
+  return bvh.kernels->closestPacket(bvh, rays, hits, active, state);
+}
+template <int N>
+uint32_t intersectClosestWidePacket(const TriangleWideView<N>& bvh, Ray* rays, Hit* hits, uint32_t active,
+                                    const QueryState& state, KernelIsa isa) {
   return wideKernels<N>(isa).closestPacket(bvh, rays, hits, active, state);
 }
 
 template <int N>
 uint32_t intersectAnyWidePacket(const TriangleWideView<N>& bvh, const Ray* rays, uint32_t active,
-                                const QueryState& state, KernelIsa isa = bestKernelIsa(N)) {
+                                const QueryState& state) {
+  return bvh.kernels->anyPacket(bvh, rays, active, state);
+}
+template <int N>
+uint32_t intersectAnyWidePacket(const TriangleWideView<N>& bvh, const Ray* rays, uint32_t active,
+                                const QueryState& state, KernelIsa isa) {
   return wideKernels<N>(isa).anyPacket(bvh, rays, active, state);
 }
 

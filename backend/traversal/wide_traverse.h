@@ -42,7 +42,7 @@ struct WideRayFrame {
 // [lower, upper] (inclusive), as in the scalar box test; the conservative far scaling is Ize's.
 template <typename FN, int N>
 inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tnear, float tfar,
-                             float entry[N], bool entryBeforeTfar = false) {
+                             float entry[N]) {
   FN nearT = FN::broadcast(tnear);
   FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
   int inside = (1 << N) - 1;
@@ -68,9 +68,7 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
   }
   farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
   nearT.store(entry);
-  const int entered = lessEqualMask(nearT, farT) & inside;
-  // entryBeforeTfar: boxes entered exactly at tfar are dropped too (see traverseWide).
-  return entryBeforeTfar ? entered & lessMask(nearT, FN::broadcast(tfar)) : entered;
+  return lessEqualMask(nearT, farT) & inside;
 }
 
 // Children are visited one after the other; loading the next ones' first cache lines early
@@ -78,11 +76,14 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
 template <typename FN>
 inline void prefetchChild(const TriangleWideView<FN::kWidth>& bvh, uint32_t child) {
   using Node = WideNode<FN::kWidth>;
-  const bool leaf = Node::isLeaf(child);
-  const char* p = leaf ? reinterpret_cast<const char*>(bvh.blocks + Node::leafFirstBlock(child))
-                       : reinterpret_cast<const char*>(bvh.nodes + child);
-  const size_t bytes = leaf ? sizeof(TriangleBlock4) : sizeof(Node);
-  for (size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
+  // Constant trip counts, so both loops unroll into bare prefetch instructions.
+  if (Node::isLeaf(child)) {
+    const char* p = reinterpret_cast<const char*>(bvh.blocks + Node::leafFirstBlock(child));
+    for (size_t line = 0; line < sizeof(TriangleBlock4); line += 64) __builtin_prefetch(p + line);
+  } else {
+    const char* p = reinterpret_cast<const char*>(bvh.nodes + child);
+    for (size_t line = 0; line < sizeof(Node); line += 64) __builtin_prefetch(p + line);
+  }
 }
 
 // Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
@@ -103,8 +104,14 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   // Once a closest-hit query has a hit (tfar shrank), a box entered exactly at tfar can only add
   // hits at that same distance: an equally valid answer, not a closer one. Skipping such boxes
   // matters for rays parallel to flat layers, where many boxes share the entry distance.
+  // Both cases in one bound: boxes entered beyond limit are skipped, and once there is a hit limit
+  // is the float just below tfar (x <= nextafter(t, -inf) exactly when x < t).
   const float initialTfar = ray.tfar;
-  auto skip = [&](float entryT) { return entryT > ray.tfar || (kNearToFar && entryT == ray.tfar && ray.tfar < initialTfar); };
+  float limit = ray.tfar;
+  const auto updateLimit = [&] {
+    limit = kNearToFar && ray.tfar < initialTfar ? std::nextafter(ray.tfar, -std::numeric_limits<float>::infinity())
+                                                 : ray.tfar;
+  };
   struct Entry {
     uint32_t child;
     float t;
@@ -115,17 +122,18 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   alignas(32) float entry[N];
   while (top > 0) {
     const Entry e = stack[--top];
-    if (skip(e.t)) continue;
+    if (e.t > limit) continue;
     uint32_t current = e.child;
     for (;;) {
       if (Node::isLeaf(current)) {
         if constexpr (kCounted) ++counters->leafVisits;
         if (leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current))) return;
+        updateLimit();
         break;
       }
       const Node& node = bvh.nodes[current];
       if constexpr (kCounted) counters->aabbTests += N;
-      int mask = intersectWideNode(node, frame, ray.tnear, ray.tfar, entry, kNearToFar && ray.tfar < initialTfar);
+      int mask = intersectWideNode(node, frame, ray.tnear, limit, entry);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
         current = node.child[__builtin_ctz(unsigned(mask))];
@@ -140,6 +148,20 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
           prefetchChild<FN>(bvh, node.child[lane]);
           stack[top++] = {node.child[lane], entry[lane]};
         }
+        continue;
+      }
+      // Two children, the most common case after one: the nearer is visited first (the lower lane
+      // on equal distances, as in the general sort below).
+      const int first = __builtin_ctz(unsigned(mask));
+      const int rest = mask & (mask - 1);
+      if ((rest & (rest - 1)) == 0) {
+        const int second = __builtin_ctz(unsigned(rest));
+        const bool firstNearer = entry[first] <= entry[second];
+        const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
+        prefetchChild<FN>(bvh, node.child[nearLane]);
+        prefetchChild<FN>(bvh, node.child[farLane]);
+        stack[top++] = {node.child[farLane], entry[farLane]};
+        current = node.child[nearLane];
         continue;
       }
       // Gather the entered children sorted by entry distance (insertion sort: few entries).
@@ -288,9 +310,12 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
 
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  const WatertightRay wr(ray);
+  // The triangle test's constants (three divisions) only for rays that reach a leaf.
+  WatertightRay wr;
+  bool prepared = false;
   bool found = false;
   traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+    if (!prepared) wr = WatertightRay(ray), prepared = true;
     found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
   }, state.counters);
@@ -299,9 +324,11 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
 
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
-  const WatertightRay wr(ray);
+  WatertightRay wr;
+  bool prepared = false;
   bool found = false;
   traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+    if (!prepared) wr = WatertightRay(ray), prepared = true;
     found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
     return found;
   }, state.counters);
