@@ -26,11 +26,10 @@ void traverseBinaryTree(const Node* nodes, const Ray& ray, TraversalCounters* co
   if (enter(nodes[0]) == kMiss) return;
   StackEntry stack[kStackSize];
   int top = 0;
-  stack[top++] = {0, ray.tnear};
-  while (top > 0) {
-    const StackEntry entry = stack[--top];
-    if (entry.tEntry > ray.tfar) continue;
-    uint32_t current = entry.node;
+  // The root starts in a register, not on the stack: popping what was just pushed as two
+  // four-byte stores would stall on store forwarding (see traverseWide).
+  uint32_t current = 0;
+  for (;;) {
     for (;;) {
       const Node& node = nodes[current];
       if (node.isLeaf()) {
@@ -52,6 +51,13 @@ void traverseBinaryTree(const Node* nodes, const Ray& ray, TraversalCounters* co
       } else {
         break;
       }
+    }
+    for (;;) {
+      if (top == 0) return;
+      const StackEntry entry = stack[--top];
+      if (entry.tEntry > ray.tfar) continue;
+      current = entry.node;
+      break;
     }
   }
 }
