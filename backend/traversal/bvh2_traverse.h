@@ -7,6 +7,7 @@
 
 #include "bvh/binary_bvh.h"
 #include "traversal/box_test.h"
+#include "traversal/stack_entry.h"
 #include "traversal/traversal_counters.h"
 
 namespace obvh {
@@ -18,16 +19,11 @@ void traverseBinaryTree(const Node* nodes, const Ray& ray, TraversalCounters* co
                         LeafVisitor&& leafVisitor) {
   constexpr int kStackSize = 128;  // builders bound the depth well below this (see the builders)
   constexpr float kMiss = std::numeric_limits<float>::infinity();
-  struct StackEntry {
-    uint32_t node;
-    float tEntry;
-  };
   if (nodes == nullptr) return;
   if (enter(nodes[0]) == kMiss) return;
   StackEntry stack[kStackSize];
   int top = 0;
-  // The root starts in a register, not on the stack: popping what was just pushed as two
-  // four-byte stores would stall on store forwarding (see traverseWide).
+  // The root starts in a register, not on the stack (see traverseWide).
   uint32_t current = 0;
   for (;;) {
     for (;;) {
@@ -55,8 +51,8 @@ void traverseBinaryTree(const Node* nodes, const Ray& ray, TraversalCounters* co
     for (;;) {
       if (top == 0) return;
       const StackEntry entry = stack[--top];
-      if (entry.tEntry > ray.tfar) continue;
-      current = entry.node;
+      if (entry.t() > ray.tfar) continue;
+      current = entry.child();
       break;
     }
   }

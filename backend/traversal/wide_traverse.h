@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "traversal/box_test.h"
+#include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
 #include "traversal/wide_traversal.h"
 
@@ -112,16 +113,11 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
     limit = kNearToFar && ray.tfar < initialTfar ? std::nextafter(ray.tfar, -std::numeric_limits<float>::infinity())
                                                  : ray.tfar;
   };
-  struct Entry {
-    uint32_t child;
-    float t;
-  };
-  Entry stack[(N - 1) * 128];
+  StackEntry stack[(N - 1) * 128];
   int top = 0;
   alignas(32) float entry[N];
-  // The root starts in a register: pushing it and popping it at once would read eight bytes
-  // just written as two four-byte stores, a store-forwarding stall that was a third of the time
-  // of a ray missing the scene.
+  // The root starts in a register: pushed and popped at once, it cost a store-forwarding stall
+  // (a third of the time of a ray missing the scene before StackEntry existed).
   if (ray.tnear > limit) return;
   uint32_t current = bvh.root;
   for (;;) {
@@ -166,28 +162,28 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
         continue;
       }
       // Gather the entered children sorted by entry distance (insertion sort: few entries).
-      Entry hits[N];
+      StackEntry hits[N];
       int n = 0;
       while (mask) {
         const int lane = __builtin_ctz(unsigned(mask));
         mask &= mask - 1;
-        Entry h{node.child[lane], entry[lane]};
-        prefetchChild<FN>(bvh, h.child);
+        StackEntry h{node.child[lane], entry[lane]};
+        prefetchChild<FN>(bvh, h.child());
         int k = n++;
-        while (k > 0 && hits[k - 1].t > h.t) {
+        while (k > 0 && hits[k - 1].t() > h.t()) {
           hits[k] = hits[k - 1];
           --k;
         }
         hits[k] = h;
       }
       for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
-      current = hits[0].child;
+      current = hits[0].child();
     }
     for (;;) {
       if (top == 0) return;
-      const Entry e = stack[--top];
-      if (e.t > limit) continue;
-      current = e.child;
+      const StackEntry e = stack[--top];
+      if (e.t() > limit) continue;
+      current = e.child();
       break;
     }
   }
