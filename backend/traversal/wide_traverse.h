@@ -189,9 +189,93 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   }
 }
 
-// Packet traversal: each active ray tests a node with the single-ray kernel above (so every box
-// decision is the single ray's), while the packet shares the node loads, one stack and one
-// near-to-far order (by the smallest entry distance among the rays entering a child). Rays leave
+// A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
+// their direction signs and move along every axis: one child box is then tested against a whole
+// group with the same per-ray operations as intersectWideNode (near/far planes chosen by sign,
+// (plane - org) * invDir, the same max/min order), so every box decision stays the single ray's.
+template <typename FN>
+struct PacketLanes {
+  static constexpr int kLanes = FN::kWidth;
+  alignas(32) float org[3][kMaxPacketSize];
+  alignas(32) float invDir[3][kMaxPacketSize];
+  alignas(32) float tnear[kMaxPacketSize];
+  alignas(32) float tfar[kMaxPacketSize];  // kept equal to the rays' tfar as hits shrink it
+  int nearRow[3] = {}, farRow[3] = {};
+  int groups = 0;
+  bool usable = false;
+
+  PacketLanes(const Ray* rays, const WideRayFrame<FN>* frames, uint32_t active) {
+    if (active == 0) return;
+    const int first = __builtin_ctz(active);
+    for (uint32_t m = active; m; m &= m - 1) {
+      const WideRayFrame<FN>& f = frames[__builtin_ctz(m)];
+      if (f.anyZero) return;
+      for (int axis = 0; axis < 3; ++axis)
+        if (f.nearRow[axis] != frames[first].nearRow[axis]) return;
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      nearRow[axis] = frames[first].nearRow[axis];
+      farRow[axis] = frames[first].farRow[axis];
+    }
+    const int last = 31 - __builtin_clz(active);
+    groups = last / kLanes + 1;
+    for (int r = 0; r < groups * kLanes; ++r) {
+      const bool on = (active >> r) & 1;
+      for (int axis = 0; axis < 3; ++axis) {
+        org[axis][r] = on ? rays[r].org[axis] : 0.f;
+        invDir[axis][r] = on ? 1.f / rays[r].dir[axis] : 0.f;  // the value WideRayFrame holds
+      }
+      // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
+      tnear[r] = on ? rays[r].tnear : std::numeric_limits<float>::infinity();
+      tfar[r] = on ? rays[r].tfar : -std::numeric_limits<float>::infinity();
+    }
+    usable = true;
+  }
+
+  // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
+  // child c, childEntry[c] their smallest entry distance; returns the mask of entered children.
+  template <int N>
+  int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
+    int entered = 0;
+    for (int g = 0; g < groups; ++g) {
+      const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
+      if (groupRays == 0) continue;
+      const int base = g * kLanes;
+      const FN o[3] = {FN::load(org[0] + base), FN::load(org[1] + base), FN::load(org[2] + base)};
+      const FN inv[3] = {FN::load(invDir[0] + base), FN::load(invDir[1] + base), FN::load(invDir[2] + base)};
+      const FN tnearLanes = FN::load(tnear + base), tfarLanes = FN::load(tfar + base);
+      const FN farScale = FN::broadcast(kConservativeFarScale);
+      for (int c = 0; c < N; ++c) {
+        if (node.child[c] == WideNode<N>::kEmptyChild) continue;
+        FN nearT = tnearLanes;
+        FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
+        for (int axis = 0; axis < 3; ++axis) {
+          nearT = max(nearT, (FN::broadcast(node.bounds[nearRow[axis]][c]) - o[axis]) * inv[axis]);
+          farT = min(farT, (FN::broadcast(node.bounds[farRow[axis]][c]) - o[axis]) * inv[axis]);
+        }
+        farT = min(farT * farScale, tfarLanes);
+        const uint32_t in = uint32_t(lessEqualMask(nearT, farT)) & groupRays;
+        if (in == 0) continue;
+        alignas(32) float entry[kLanes];
+        nearT.store(entry);
+        float nearest = childEntry[c];
+        for (uint32_t m = in; m; m &= m - 1) nearest = std::min(nearest, entry[__builtin_ctz(m)]);
+        childEntry[c] = nearest;
+        childRays[c] |= in << base;
+        entered |= 1 << c;
+      }
+    }
+    return entered;
+  }
+
+  void refreshTfar(const Ray* rays, uint32_t changed) {
+    for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
+  }
+};
+
+// Packet traversal: every box decision is the single ray's (rays as SIMD lanes per child box when
+// PacketLanes is usable, else each ray with the single-ray kernel above), while the packet shares
+// the node loads, one stack and one near-to-far order (by the smallest entry distance among the rays entering a child). Rays leave
 // the packet when leafVisitor(firstBlock, blockCount, rays) reports them finished (any-hit).
 template <typename FN, bool kNearToFar, typename LeafVisitor>
 void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, const WideRayFrame<FN>* frames,
@@ -203,6 +287,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root), active);
     return;
   }
+  PacketLanes<FN> lanes(rays, frames, active);
   struct Entry {
     uint32_t child;
     uint32_t rays;
@@ -227,6 +312,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
       if (Node::isLeaf(current)) {
         active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
         if (active == 0) return;
+        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
         break;
       }
       const Node& node = bvh.nodes[current];
@@ -234,15 +320,19 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
       float childEntry[N];
       for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
       int entered = 0;
-      for (uint32_t m = currentRays; m; m &= m - 1) {
-        const int r = __builtin_ctz(m);
-        int mask = intersectWideNode(node, frames[r], rays[r].tnear, rays[r].tfar, entry);
-        entered |= mask;
-        while (mask) {
-          const int c = __builtin_ctz(unsigned(mask));
-          mask &= mask - 1;
-          childRays[c] |= 1u << r;
-          childEntry[c] = std::min(childEntry[c], entry[c]);
+      if (lanes.usable) {
+        entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
+      } else {
+        for (uint32_t m = currentRays; m; m &= m - 1) {
+          const int r = __builtin_ctz(m);
+          int mask = intersectWideNode(node, frames[r], rays[r].tnear, rays[r].tfar, entry);
+          entered |= mask;
+          while (mask) {
+            const int c = __builtin_ctz(unsigned(mask));
+            mask &= mask - 1;
+            childRays[c] |= 1u << r;
+            childEntry[c] = std::min(childEntry[c], entry[c]);
+          }
         }
       }
       if (entered == 0) break;

@@ -198,6 +198,13 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
     for (int r = 0; r < 16; ++r) {
       rays[r] = pool[p * 16 + r];
       if (p % 2) rays[r].org = pool[p * 16].org;  // a common origin: coherent lanes
+      if (p % 4 == 1) {
+        // Also one sign per axis and no zero component, like a camera's rays: the packet then
+        // tests each child box against its rays as SIMD lanes (PacketLanes).
+        const Vec3f d = pool[p * 16 + r].dir;
+        const float sign[3] = {p & 4 ? -1.f : 1.f, p & 8 ? -1.f : 1.f, p & 16 ? -1.f : 1.f};
+        for (int axis = 0; axis < 3; ++axis) rays[r].dir[axis] = sign[axis] * (0.05f + std::fabs(d[axis]));
+      }
     }
     Ray packetRays[kMaxPacketSize];
     std::copy(rays, rays + 16, packetRays);
