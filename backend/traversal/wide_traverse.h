@@ -361,29 +361,46 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   }
 }
 
-// The per-ray constants of a packet's active lanes.
+// The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
+// the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
+// at the root; the triangle test's constants are made at a ray's first leaf.
 template <typename FN>
 struct PacketFrames {
   WideRayFrame<FN> box[kMaxPacketSize];
-  WatertightRay watertight[kMaxPacketSize];
+  uint32_t live = 0;
+
   PacketFrames(const Ray* rays, uint32_t active) {
     for (; active; active &= active - 1) {
       const int r = __builtin_ctz(active);
+      if (rays[r].tnear > rays[r].tfar) continue;
+      live |= 1u << r;
       box[r] = WideRayFrame<FN>(rays[r]);
-      watertight[r] = WatertightRay(rays[r]);
     }
   }
+
+  const WatertightRay& triangleFrame(const Ray* rays, int r) {
+    if (!((prepared_ >> r) & 1)) {
+      watertight_[r] = WatertightRay(rays[r]);
+      prepared_ |= 1u << r;
+    }
+    return watertight_[r];
+  }
+
+ private:
+  WatertightRay watertight_[kMaxPacketSize];
+  uint32_t prepared_ = 0;
 };
 
 template <typename FN, typename F4>
 uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
                                         uint32_t active, const QueryState& state) {
-  const PacketFrames<FN> f(rays, active);
+  PacketFrames<FN> f(rays, active);
   uint32_t found = 0;
-  traverseWidePacket<FN, true>(bvh, rays, f.box, active, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+  traverseWidePacket<FN, true>(bvh, rays, f.box, f.live, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
-      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.watertight[r], rays[r], hits[r], state))
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     hits[r], state))
         found |= 1u << r;
     }
     return 0u;
@@ -394,13 +411,13 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
 template <typename FN, typename F4>
 uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
                                     const QueryState& state) {
-  const PacketFrames<FN> f(rays, active);
+  PacketFrames<FN> f(rays, active);
   uint32_t occluded = 0;
-  traverseWidePacket<FN, false>(bvh, rays, f.box, active, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+  traverseWidePacket<FN, false>(bvh, rays, f.box, f.live, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     uint32_t finished = 0;
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
-      if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.watertight[r], rays[r], state))
+      if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r], state))
         finished |= 1u << r;
     }
     occluded |= finished;
