@@ -17,7 +17,7 @@ struct DeviceConfig {
   // RTC_SCENE_FLAG_ROBUST always selects the watertight test; this is the default for other scenes.
   IntersectorMode intersector = IntersectorMode::Watertight;
   int buildBins = 32;
-  int maxLeafSize = 4;
+  int maxLeafSize = 0;  // 0: the layout's and builder's default (defaultMaxLeafSize)
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
   int obbClusters = 0;

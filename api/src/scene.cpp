@@ -220,7 +220,7 @@ void Scene::rebuild() {
   options.kmeansArity = device_->config().kmeansArity > 0 ? device_->config().kmeansArity : layoutWidth;
   options.distanceAlpha = device_->config().distanceAlpha;
   options.distanceSource = device_->config().distanceSource;
-  options.maxLeafSize = device_->config().maxLeafSize;
+  options.maxLeafSize = device_->config().maxLeafSize;  // 0: the layout's and builder's default
   options.obbSplit = device_->config().obbSplit;
   options.obbBins = device_->config().obbBins;
   options.obbClusters = device_->config().obbClusters;

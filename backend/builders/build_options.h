@@ -24,13 +24,23 @@ enum class TreeBuilder { Sah, KMeans, Distance };
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
 
+// The leaf size when the device config does not set one (BuildOptions::maxLeafSize = 0). The
+// wide layouts let the SAH-driven builders (binned, spatial-split, distance) choose leaves of up
+// to seven blocks of four triangles, as Embree's BVH8 leaves allow: on slanted stacks, whose
+// overlapping line boxes no split separates, that lowered the SAH cost below Embree's (README,
+// build quality ladder). Builders that cut without weighing a leaf (Morton, k-means) and the
+// binary layouts keep leaves of up to four.
+inline int defaultMaxLeafSize(AccelLayout layout, bool sahDecidesLeaves) {
+  return sahDecidesLeaves && (layout == AccelLayout::Bvh4 || layout == AccelLayout::Bvh8) ? 28 : 4;
+}
+
 struct BuildOptions {
   AccelLayout layout = AccelLayout::Bvh4;
   IntersectorMode intersector = IntersectorMode::Watertight;
   BuildQuality quality = BuildQuality::Medium;
   float spatialBudget = 1.0f;     // High: extra triangle references allowed, as a fraction of the triangle count
   int binCount = 32;
-  int maxLeafSize = 4;
+  int maxLeafSize = 4;            // 0: defaultMaxLeafSize
   float traversalCost = 1.0f;     // relative cost of one node visit
   float intersectionCost = 1.0f;  // relative cost of one primitive test
   TreeBuilder builder = TreeBuilder::Sah;

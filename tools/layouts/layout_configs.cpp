@@ -7,6 +7,7 @@ LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout
                   int clusters = 0) {
   LayoutConfig c{name, deviceConfig, BuildOptions{}};
   c.options.layout = layout;
+  c.options.maxLeafSize = 0;  // as a device would: the layout's default
   c.options.obbSplit = split;
   c.options.obbClusters = clusters;
   return c;
