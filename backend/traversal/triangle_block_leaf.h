@@ -42,6 +42,16 @@ inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, co
   const int used = block.usedLanes();
   BlockCandidates c;
   c.recheck = anyZero & used;
+  if (c.recheck) {
+    // Two vertices that coincide in the ray's frame (a wall seen edge-on by a ray parallel to it,
+    // as in orthographic views of stacks) make their edge function exactly zero and the other two
+    // exact negatives, in float and in the scalar test's double fallback alike: that test rejects
+    // the triangle (determinant zero), so such lanes need no recheck.
+    const int coincident = (equalMask(x[0], x[1]) & equalMask(y[0], y[1])) |
+                           (equalMask(x[1], x[2]) & equalMask(y[1], y[2])) |
+                           (equalMask(x[2], x[0]) & equalMask(y[2], y[0]));
+    c.recheck &= ~coincident;
+  }
   c.resolve = ~(anyNegative & anyPositive) & ~anyZero & used;
   if (c.resolve) {
     U.store(c.U);

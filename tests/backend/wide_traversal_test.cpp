@@ -182,6 +182,66 @@ TEST(WideBvh, SimdMatchesScalarOnDenormalDirections) {
   expectSimdMatchesScalarOnDenormalDirections<8>();
 }
 
+// Vertical walls (along x, along y and diagonal) over a floor, traced straight down on a grid
+// that puts many rays exactly in a wall's plane: the SIMD kernels skip the double-precision
+// recheck for triangles whose vertices coincide in the ray's frame, and must still answer exactly
+// as the scalar test and the binary tree do.
+test::MeshData wallsSeenEdgeOn() {
+  test::MeshData mesh;
+  auto quad = [&](Vec3f a, Vec3f b, Vec3f c, Vec3f d) {
+    const uint32_t base = uint32_t(mesh.vertices.size() / 3);
+    for (const Vec3f& p : {a, b, c, d}) mesh.vertices.insert(mesh.vertices.end(), {p.x, p.y, p.z});
+    mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  };
+  for (int i = 0; i < 16; ++i) {
+    const float w = 0.25f + 0.5f * float(i);
+    quad({w, 0.f, 0.f}, {w, 8.f, 0.f}, {w, 8.f, 1.f}, {w, 0.f, 1.f});            // x = w
+    quad({0.f, w, 0.f}, {8.f, w, 0.f}, {8.f, w, 1.5f}, {0.f, w, 1.5f});          // y = w
+    quad({w, 0.f, 0.f}, {w + 2.f, 2.f, 0.f}, {w + 2.f, 2.f, 2.f}, {w, 0.f, 2.f});  // diagonal
+  }
+  quad({-1.f, -1.f, -0.5f}, {9.f, -1.f, -0.5f}, {9.f, 9.f, -0.5f}, {-1.f, 9.f, -0.5f});  // floor
+  return mesh;
+}
+
+template <int N>
+void expectWallsSeenEdgeOnMatchTheBinaryTree() {
+  Layouts<N> l(wallsSeenEdgeOn(), 4);
+  const QueryState state;
+  std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
+  if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
+  size_t inWallPlane = 0, hits = 0;
+  for (int i = 0; i <= 64; ++i)
+    for (int j = 0; j <= 64; ++j) {
+      Ray ray;
+      ray.org = {0.125f * float(i), 0.125f * float(j), 5.f};  // exact: walls sit at 0.125 * (2 + 4k)
+      ray.dir = {0.f, 0.f, (i + j) % 2 ? -1.f : -2.f};
+      ray.tfar = std::numeric_limits<float>::infinity();
+      inWallPlane += i % 4 == 2 || j % 4 == 2 || ((i - j) % 4 + 4) % 4 == 2;
+      Ray r2 = ray;
+      Hit h2;
+      const bool f2 = intersectClosest(l.view2, r2, h2, state);
+      hits += f2;
+      for (KernelIsa isa : kernels) {
+        Ray r = ray;
+        Hit h;
+        ASSERT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " ray " << i << "," << j;
+        EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), intersectAny(l.view2, ray, state));
+        if (!f2) continue;
+        EXPECT_EQ(r.tfar, r2.tfar);
+        EXPECT_EQ(h.primID, h2.primID);
+        EXPECT_EQ(h.u, h2.u);
+        EXPECT_EQ(h.v, h2.v);
+      }
+    }
+  EXPECT_GT(inWallPlane, 2000u);
+  EXPECT_EQ(hits, 65u * 65u);  // the floor below everything
+}
+
+TEST(WideBvh, WallsSeenEdgeOnMatchTheBinaryTree) {
+  expectWallsSeenEdgeOnMatchTheBinaryTree<4>();
+  expectWallsSeenEdgeOnMatchTheBinaryTree<8>();
+}
+
 // Packets of up to 16 rays (partial masks, coherent and incoherent lanes) find the same closest
 // distance and occlusion as each ray alone. The hit primitive may differ only where two
 // primitives tie at that distance (the packet visits leaves in its own order).
