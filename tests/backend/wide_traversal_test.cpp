@@ -103,34 +103,39 @@ std::vector<Ray> testRays(uint32_t seed, size_t count) {
   return rays;
 }
 
+// Every kernel of width N (scalar, and SIMD where the CPU has it) answers the ray exactly as the
+// binary tree does; returns whether the binary tree found a hit.
+template <int N>
+bool expectKernelsAnswerLikeTheBinaryTree(const Layouts<N>& l, const Ray& ray) {
+  const QueryState state;
+  std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
+  if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
+  Ray r2 = ray;
+  Hit h2;
+  const bool f2 = intersectClosest(l.view2, r2, h2, state);
+  const bool any2 = intersectAny(l.view2, ray, state);
+  for (KernelIsa isa : kernels) {
+    Ray r = ray;
+    Hit h;
+    EXPECT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " isa " << int(isa);
+    EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2);
+    if (!f2) continue;
+    EXPECT_EQ(r.tfar, r2.tfar);
+    EXPECT_EQ(h.primID, h2.primID);
+    EXPECT_EQ(h.u, h2.u);
+    EXPECT_EQ(h.v, h2.v);
+    EXPECT_EQ(h.Ng.x, h2.Ng.x);
+  }
+  return f2;
+}
+
 // The binary tree's answer (scalar triangle test per triangle) is the reference for every kernel.
 template <int N>
 void expectKernelsMatchBinaryTree(const test::MeshData& mesh, int maxLeafSize, bool fast, uint32_t seed,
                                   size_t minHits) {
   Layouts<N> l(mesh, maxLeafSize, fast);
-  const QueryState state;
-  std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
-  if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
   size_t hits = 0;
-  for (const Ray& ray : testRays(seed, 20000)) {
-    Ray r2 = ray;
-    Hit h2;
-    const bool f2 = intersectClosest(l.view2, r2, h2, state);
-    hits += f2;
-    const bool any2 = intersectAny(l.view2, ray, state);
-    for (KernelIsa isa : kernels) {
-      Ray r = ray;
-      Hit h;
-      ASSERT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " isa " << int(isa);
-      EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2);
-      if (!f2) continue;
-      EXPECT_EQ(r.tfar, r2.tfar);
-      EXPECT_EQ(h.primID, h2.primID);
-      EXPECT_EQ(h.u, h2.u);
-      EXPECT_EQ(h.v, h2.v);
-      EXPECT_EQ(h.Ng.x, h2.Ng.x);
-    }
-  }
+  for (const Ray& ray : testRays(seed, 20000)) hits += expectKernelsAnswerLikeTheBinaryTree(l, ray);
   EXPECT_GT(hits, minHits);
 }
 
@@ -206,9 +211,6 @@ test::MeshData wallsSeenEdgeOn() {
 template <int N>
 void expectWallsSeenEdgeOnMatchTheBinaryTree() {
   Layouts<N> l(wallsSeenEdgeOn(), 4);
-  const QueryState state;
-  std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
-  if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
   size_t inWallPlane = 0, hits = 0;
   for (int i = 0; i <= 64; ++i)
     for (int j = 0; j <= 64; ++j) {
@@ -217,21 +219,7 @@ void expectWallsSeenEdgeOnMatchTheBinaryTree() {
       ray.dir = {0.f, 0.f, (i + j) % 2 ? -1.f : -2.f};
       ray.tfar = std::numeric_limits<float>::infinity();
       inWallPlane += i % 4 == 2 || j % 4 == 2 || ((i - j) % 4 + 4) % 4 == 2;
-      Ray r2 = ray;
-      Hit h2;
-      const bool f2 = intersectClosest(l.view2, r2, h2, state);
-      hits += f2;
-      for (KernelIsa isa : kernels) {
-        Ray r = ray;
-        Hit h;
-        ASSERT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " ray " << i << "," << j;
-        EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), intersectAny(l.view2, ray, state));
-        if (!f2) continue;
-        EXPECT_EQ(r.tfar, r2.tfar);
-        EXPECT_EQ(h.primID, h2.primID);
-        EXPECT_EQ(h.u, h2.u);
-        EXPECT_EQ(h.v, h2.v);
-      }
+      hits += expectKernelsAnswerLikeTheBinaryTree(l, ray);
     }
   EXPECT_GT(inWallPlane, 2000u);
   EXPECT_EQ(hits, 65u * 65u);  // the floor below everything
