@@ -100,7 +100,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   BuildOptions triangleOptions = options;
   const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
-  const bool sahDecidesLeaves = oriented || options.builder == TreeBuilder::Distance ||
+  const bool sahDecidesLeaves = options.builder == TreeBuilder::Distance ||
                                 (options.builder == TreeBuilder::Sah && options.quality != BuildQuality::Low);
   if (options.maxLeafSize <= 0) triangleOptions.maxLeafSize = defaultMaxLeafSize(layout_, sahDecidesLeaves);
   if (wide) {
