@@ -275,8 +275,9 @@ struct PacketLanes {
 
 // Packet traversal: every box decision is the single ray's (rays as SIMD lanes per child box when
 // PacketLanes is usable, else each ray with the single-ray kernel above), while the packet shares
-// the node loads, one stack and one near-to-far order (by the smallest entry distance among the rays entering a child). Rays leave
-// the packet when leafVisitor(firstBlock, blockCount, rays) reports them finished (any-hit).
+// the node loads, one stack and one near-to-far order (by the smallest entry distance among the
+// rays entering a child). Rays leave the packet when leafVisitor(firstBlock, blockCount, rays)
+// reports them finished (any-hit).
 template <typename FN, bool kNearToFar, typename LeafVisitor>
 void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, const WideRayFrame<FN>* frames,
                         uint32_t active, LeafVisitor&& leafVisitor) {
