@@ -107,6 +107,11 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       if (value == "on") config.rayMasks = true;
       else if (value == "off") config.rayMasks = false;
       else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for ray_mask (on or off)");
+    } else if (name == "collapse") {
+      if (value == "greedy") config.collapse = WideCollapse::Greedy;
+      else if (value == "sah") config.collapse = WideCollapse::SahOptimal;
+      else if (value == "default") config.collapse = WideCollapse::Default;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown collapse '" + value + "' (available: greedy, sah, default)");
     } else if (name == "spatial_budget") {
       config.spatialBudget = float(parseInt(name, value, 0, 400)) / 100.f;
     } else if (name == "traversal_cost") {

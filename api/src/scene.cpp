@@ -212,6 +212,7 @@ void Scene::rebuild() {
                     : quality_ == RTC_BUILD_QUALITY_LOW ? BuildQuality::Low
                                                         : BuildQuality::Medium;
   options.spatialBudget = device_->config().spatialBudget;
+  options.collapse = device_->config().collapse;
   options.binCount = device_->config().buildBins;
   options.traversalCost = device_->config().traversalCost;
   options.intersectionCost = device_->config().intersectionCost;

@@ -37,12 +37,23 @@ struct WideBvh {
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
 };
 
+// How the binary tree becomes wide: Greedy fills each node by opening the child of largest
+// surface area and keeps the binary leaves; SahOptimal picks, by dynamic programming, the cut of
+// least SAH cost and may merge a subtree of up to maxLeafPrims triangles into one leaf.
+enum class CollapseMethod { Greedy, SahOptimal };
+
+struct CollapseOptions {
+  CollapseMethod method = CollapseMethod::Greedy;
+  uint32_t maxLeafPrims = 4;  // SahOptimal: largest merged leaf (at most 4 * kMaxLeafBlocks)
+};
+
 // trianglesInLeafOrder are the binary tree's triangles ordered by its primIndices; the binary
 // tree's leaves may hold at most 4 * kMaxLeafBlocks triangles.
 template <int N>
-WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder);
+WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder,
+                          const CollapseOptions& options = {});
 
-extern template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*);
-extern template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*);
+extern template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
+extern template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
 
 }  // namespace obvh

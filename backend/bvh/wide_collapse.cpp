@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <limits>
 
 #include "bvh/wide_bvh.h"
@@ -6,33 +7,18 @@
 namespace obvh {
 namespace {
 
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Writes wide nodes and leaf blocks; what becomes a node's children is the caller's choice.
 template <int N>
-class Collapser {
+class WideWriter {
  public:
-  Collapser(const BinaryBvh& binary, const StoredTriangle* triangles, WideBvh<N>& out)
+  WideWriter(const BinaryBvh& binary, const StoredTriangle* triangles, WideBvh<N>& out)
       : binary_(binary), triangles_(triangles), out_(out) {}
 
-  // Returns the child code for binary node index.
-  uint32_t collapse(uint32_t index) {
-    const Bvh2Node& node = binary_.nodes[index];
-    if (node.isLeaf()) return emitLeaf(node.firstChildOrPrim, node.primCount);
-    std::vector<uint32_t> children = {node.firstChildOrPrim, node.firstChildOrPrim + 1};
-    while (children.size() < size_t(N)) {
-      // Open the interior child with the largest surface area: it is the one most rays enter.
-      int best = -1;
-      float bestArea = -1.f;
-      for (size_t c = 0; c < children.size(); ++c) {
-        const Bvh2Node& candidate = binary_.nodes[children[c]];
-        if (!candidate.isLeaf() && candidate.bounds.halfArea() > bestArea) {
-          bestArea = candidate.bounds.halfArea();
-          best = int(c);
-        }
-      }
-      if (best < 0) break;
-      const uint32_t opened = children[best];
-      children[best] = binary_.nodes[opened].firstChildOrPrim;
-      children.push_back(binary_.nodes[opened].firstChildOrPrim + 1);
-    }
+  // A node whose lanes are the given binary nodes; emitChild(binary index) returns a lane's code.
+  template <typename EmitChild>
+  uint32_t emitNode(const std::vector<uint32_t>& children, EmitChild&& emitChild) {
     const uint32_t nodeIndex = uint32_t(out_.nodes.size());
     out_.nodes.emplace_back();
     for (int lane = 0; lane < N; ++lane) {
@@ -43,8 +29,8 @@ class Collapser {
       Box3f box;
       box.lower = box.upper = {nan, nan, nan};
       if (lane < int(children.size())) {
-        box = binary_.nodes[children[lane]].bounds;
-        code = collapse(children[lane]);
+        box = binary_.nodes[children[size_t(lane)]].bounds;
+        code = emitChild(children[size_t(lane)]);
       }
       WideNode<N>& n = out_.nodes[nodeIndex];  // re-fetched: recursion may have grown the vector
       for (int axis = 0; axis < 3; ++axis) {
@@ -56,7 +42,6 @@ class Collapser {
     return nodeIndex;
   }
 
- private:
   // Blocks are appended in depth-first order, so a subtree's triangles stay close in memory.
   uint32_t emitLeaf(uint32_t first, uint32_t count) {
     const uint32_t firstBlock = uint32_t(out_.blocks.size());
@@ -75,24 +60,180 @@ class Collapser {
     return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount;
   }
 
+  const BinaryBvh& binary() const { return binary_; }
+
+ private:
   const BinaryBvh& binary_;
   const StoredTriangle* triangles_;
   WideBvh<N>& out_;
 };
 
+// Keeps the binary tree's leaves; fills a node by repeatedly opening the interior child with the
+// largest surface area (the one most rays enter).
+template <int N>
+class GreedyCollapser {
+ public:
+  explicit GreedyCollapser(WideWriter<N>& writer) : writer_(writer), nodes_(writer.binary().nodes) {}
+
+  uint32_t collapse(uint32_t index) {
+    const Bvh2Node& node = nodes_[index];
+    if (node.isLeaf()) return writer_.emitLeaf(node.firstChildOrPrim, node.primCount);
+    std::vector<uint32_t> children = {node.firstChildOrPrim, node.firstChildOrPrim + 1};
+    while (children.size() < size_t(N)) {
+      int best = -1;
+      float bestArea = -1.f;
+      for (size_t c = 0; c < children.size(); ++c) {
+        const Bvh2Node& candidate = nodes_[children[c]];
+        if (!candidate.isLeaf() && candidate.bounds.halfArea() > bestArea) {
+          bestArea = candidate.bounds.halfArea();
+          best = int(c);
+        }
+      }
+      if (best < 0) break;
+      const uint32_t opened = children[size_t(best)];
+      children[size_t(best)] = nodes_[opened].firstChildOrPrim;
+      children.push_back(nodes_[opened].firstChildOrPrim + 1);
+    }
+    return writer_.emitNode(children, [this](uint32_t child) { return collapse(child); });
+  }
+
+ private:
+  WideWriter<N>& writer_;
+  const std::vector<Bvh2Node>& nodes_;
+};
+
+// The wide tree of least SAH cost (the verbose=2 statistic: an interior node costs its area, a
+// leaf its area times its four-triangle blocks) among those whose nodes are cuts of the binary
+// tree; a subtree small enough may also become one leaf (Ylitie, Karras and Laine, "Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017). Bottom-up, per binary
+// node n and i = 1..N: the cheapest way to stand for n's subtree with at most i wide children,
+// and the choice that gives it. The greedy collapse's tree is one of the candidates, so this one
+// never costs more.
+template <int N>
+class SahCollapser {
+ public:
+  SahCollapser(WideWriter<N>& writer, uint32_t maxLeafPrims)
+      : writer_(writer),
+        nodes_(writer.binary().nodes),
+        maxLeafPrims_(std::min<uint32_t>(maxLeafPrims, 4 * WideNode<N>::kMaxLeafBlocks)) {
+    plan();
+  }
+
+  uint32_t collapse(uint32_t index) {
+    if (leafChosen_[index]) return writer_.emitLeaf(range_[index].first, range_[index].count);
+    std::vector<uint32_t> children;
+    const uint32_t left = nodes_[index].firstChildOrPrim;
+    const int k = split_[at(index, N)];
+    gather(left, k, children);
+    gather(left + 1, N - k, children);
+    return writer_.emitNode(children, [this](uint32_t child) { return collapse(child); });
+  }
+
+ private:
+  struct PrimRange {
+    uint32_t first = 0, count = 0;
+    bool contiguous = true;  // the subtree's primitives are primIndices[first, first + count)
+  };
+
+  static size_t at(uint32_t node, int i) { return size_t(node) * N + size_t(i - 1); }
+  static float blocks(uint32_t prims) { return float((prims + 3) / 4); }
+
+  void plan() {
+    const size_t count = nodes_.size();
+    cost_.assign(count * N, kInfinity);
+    split_.assign(count * N, 0);
+    roots_.assign(count * N, 1);
+    leafChosen_.assign(count, 0);
+    range_.assign(count, {});
+    // Reverse pre-order visits children before their parent, whatever order a builder stored.
+    std::vector<uint32_t> preOrder;
+    preOrder.reserve(count);
+    std::vector<uint32_t> pending{0};
+    while (!pending.empty()) {
+      const uint32_t node = pending.back();
+      pending.pop_back();
+      preOrder.push_back(node);
+      if (!nodes_[node].isLeaf()) pending.push_back(nodes_[node].firstChildOrPrim), pending.push_back(nodes_[node].firstChildOrPrim + 1);
+    }
+    for (size_t p = preOrder.size(); p-- > 0;) {
+      const uint32_t node = preOrder[p];
+      const size_t n = node;
+      const Bvh2Node& b = nodes_[n];
+      const float area = b.bounds.halfArea();
+      if (b.isLeaf()) {
+        range_[n] = {b.firstChildOrPrim, b.primCount, true};
+        leafChosen_[n] = 1;
+        for (int i = 1; i <= N; ++i) cost_[at(node, i)] = area * blocks(b.primCount);
+        continue;
+      }
+      const uint32_t left = b.firstChildOrPrim, right = left + 1;
+      const PrimRange& l = range_[left];
+      const PrimRange& r = range_[right];
+      range_[n] = {l.first, l.count + r.count, l.contiguous && r.contiguous && l.first + l.count == r.first};
+      // Forests of j roots, j = 2..N: k of them from the left child, j - k from the right.
+      float forest[N + 1];
+      for (int j = 2; j <= N; ++j) {
+        forest[j] = kInfinity;
+        for (int k = 1; k < j; ++k) {
+          const float c = cost_[at(left, k)] + cost_[at(right, j - k)];
+          if (c < forest[j]) forest[j] = c, split_[at(node, j)] = int8_t(k);
+        }
+      }
+      const float asNode = area + forest[N];
+      const bool mergeable = range_[n].contiguous && range_[n].count <= maxLeafPrims_;
+      const float asLeaf = mergeable ? area * blocks(range_[n].count) : kInfinity;
+      leafChosen_[n] = asLeaf <= asNode;
+      cost_[at(node, 1)] = std::min(asLeaf, asNode);
+      for (int i = 2; i <= N; ++i) {
+        const float fewer = cost_[at(node, i - 1)];
+        if (forest[i] < fewer) {
+          cost_[at(node, i)] = forest[i], roots_[at(node, i)] = int8_t(i);
+        } else {
+          cost_[at(node, i)] = fewer, roots_[at(node, i)] = roots_[at(node, i - 1)];
+        }
+      }
+    }
+  }
+
+  // Appends the roots of the cheapest forest of at most `most` subtrees standing for `node`.
+  void gather(uint32_t node, int most, std::vector<uint32_t>& roots) const {
+    const int j = roots_[at(node, most)];
+    if (j == 1 || nodes_[node].isLeaf()) {
+      roots.push_back(node);
+      return;
+    }
+    const int k = split_[at(node, j)];
+    gather(nodes_[node].firstChildOrPrim, k, roots);
+    gather(nodes_[node].firstChildOrPrim + 1, j - k, roots);
+  }
+
+  WideWriter<N>& writer_;
+  const std::vector<Bvh2Node>& nodes_;
+  uint32_t maxLeafPrims_;
+  std::vector<float> cost_;       // [node][i - 1]: cheapest forest of at most i roots
+  std::vector<int8_t> split_;     // [node][j - 1]: roots from the left child in a forest of exactly j
+  std::vector<int8_t> roots_;     // [node][i - 1]: how many roots that cheapest forest has
+  std::vector<uint8_t> leafChosen_;
+  std::vector<PrimRange> range_;
+};
+
 }  // namespace
 
 template <int N>
-WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder) {
+WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder, const CollapseOptions& options) {
   WideBvh<N> out;
   if (binary.empty()) return out;
   reserveWithHugePages(out.nodes, binary.nodes.size() / (N / 2 + 1) + 1);
   reserveWithHugePages(out.blocks, binary.primIndices.size() / 3 + 1);
-  out.rootChild = Collapser<N>(binary, trianglesInLeafOrder, out).collapse(0);
+  WideWriter<N> writer(binary, trianglesInLeafOrder, out);
+  if (options.method == CollapseMethod::SahOptimal)
+    out.rootChild = SahCollapser<N>(writer, options.maxLeafPrims).collapse(0);
+  else
+    out.rootChild = GreedyCollapser<N>(writer).collapse(0);
   return out;
 }
 
-template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*);
-template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*);
+template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
+template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
 
 }  // namespace obvh

@@ -209,11 +209,16 @@ void SceneAccel::makeTriangleViews() {
   if (triangleBvh_.empty()) return;
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) triangleOrientedView_ = {&triangleOriented_, set};
+  CollapseOptions collapse;
+  // The SAH-optimal collapse is the default: it costs no build time and traced 3-33% faster on
+  // the bunny, dragon, motorBike and the stacks, 2-4% slower on the buildings' primary rays (README).
+  collapse.method = options_.collapse == WideCollapse::Greedy ? CollapseMethod::Greedy : CollapseMethod::SahOptimal;
+  collapse.maxLeafPrims = uint32_t(std::max(options_.maxLeafSize, 1));
   if (layout_ == AccelLayout::Bvh4) {
-    triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data());
+    triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data(), collapse);
     triangleView4_ = makeWideView(triangleBvh4_, set);
   } else if (layout_ == AccelLayout::Bvh8) {
-    triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data());
+    triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data(), collapse);
     triangleView8_ = makeWideView(triangleBvh8_, set);
   }
 }
@@ -252,7 +257,7 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
          a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
-         a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.traversalCost == b.traversalCost &&
+         a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse && a.traversalCost == b.traversalCost &&
          a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
          a.distanceAlpha == b.distanceAlpha && a.distanceSource.x == b.distanceSource.x &&
          a.distanceSource.y == b.distanceSource.y && a.distanceSource.z == b.distanceSource.z;

@@ -87,7 +87,8 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
                              "accel=obb,obb_split=midpoint,obb_bins=100,obb_clusters=1000,obb_cost=15",
                              "accel=hybrid,obb_split=aabb", "builder=kmeans,kmeans_k=4", "builder=sah",
                              "builder=distance,distance_alpha=0.25,distance_source=1.5:-2:3e2",
-                             "traversal_cost=2.5,intersection_cost=0.5"}) {
+                             "traversal_cost=2.5,intersection_cost=0.5", "collapse=greedy", "collapse=sah,accel=bvh4",
+                             "collapse=default"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -100,7 +101,8 @@ TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
                              "build_bins=1", "max_leaf_size=x", "ray_mask=maybe", "obb_split=best", "obb_bins=1",
                              "obb_clusters=-1", "obb_cost=0", "builder=octree", "kmeans_k=9", "kmeans_k=1",
                              "distance_alpha=1.5", "distance_alpha=x", "distance_source=1:2", "distance_source=1:2:3:4",
-                             "distance_source=a:b:c", "traversal_cost=0", "intersection_cost=-1"}) {
+                             "distance_source=a:b:c", "traversal_cost=0", "intersection_cost=-1",
+                             "collapse=optimal"}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;
   }

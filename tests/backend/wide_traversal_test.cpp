@@ -8,6 +8,7 @@
 #include <random>
 
 #include "builders/binned_sah_builder.h"
+#include "bvh/tree_statistics.h"
 #include "bvh/wide_bvh.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
@@ -29,13 +30,13 @@ struct Layouts {
   TriangleBvhView view2;
   TriangleWideView<N> view;
 
-  Layouts(const test::MeshData& mesh, int maxLeafSize, bool fast = false) {
+  Layouts(const test::MeshData& mesh, int maxLeafSize, bool fast = false, CollapseOptions collapse = {}) {
     collected = collectPrimitives({tools::backendMeshDesc(mesh)});
     BuildOptions options;
     options.maxLeafSize = maxLeafSize;
     binary = buildBinnedSah(collected.refs, options);
     for (uint32_t index : binary.primIndices) triangles.push_back(collected.triangles[index]);
-    wide = collapseToWide<N>(binary, triangles.data());
+    wide = collapseToWide<N>(binary, triangles.data(), collapse);
     const TriangleSet set{triangles.data(), masks.data(), nullptr, nullptr, nullptr, fast};
     view2 = {binary.nodes.data(), set};
     view = makeWideView(wide, set);
@@ -66,11 +67,16 @@ void checkLeaves(const Layouts<N>& l, uint32_t child, std::vector<int>& seen) {
 }
 
 template <int N>
-void expectCollapseKeepsEveryTriangleOnce(int maxLeafSize) {
-  Layouts<N> l(test::randomTriangleSoup(20000, 1), maxLeafSize);
+void expectEveryTriangleOnce(const Layouts<N>& l) {
   std::vector<int> seen(l.triangles.size(), 0);
   checkLeaves(l, l.wide.rootChild, seen);
   for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "triangle " << i;
+}
+
+template <int N>
+void expectCollapseKeepsEveryTriangleOnce(int maxLeafSize) {
+  Layouts<N> l(test::randomTriangleSoup(20000, 1), maxLeafSize);
+  expectEveryTriangleOnce(l);
   size_t used = 0;
   for (const WideNode<N>& node : l.wide.nodes)
     for (uint32_t c : node.child) used += c != WideNode<N>::kEmptyChild;
@@ -84,6 +90,36 @@ TEST(WideBvh, CollapseKeepsEveryTriangleOnceAndFillsNodes) {
   expectCollapseKeepsEveryTriangleOnce<4>(7);  // leaves of two blocks, the second one padded
   expectCollapseKeepsEveryTriangleOnce<8>(4);
   expectCollapseKeepsEveryTriangleOnce<8>(13);
+}
+
+CollapseOptions sahCollapse(uint32_t maxLeafPrims) {
+  CollapseOptions options;
+  options.method = CollapseMethod::SahOptimal;
+  options.maxLeafPrims = maxLeafPrims;
+  return options;
+}
+
+// The greedy collapse's tree is among the SAH collapse's candidates: the dynamic programme may
+// only lower the cost. With one-triangle binary leaves it must also merge them into fuller blocks.
+template <int N>
+void expectSahCollapseBeatsGreedy(int binaryLeafSize, uint32_t maxLeafPrims) {
+  const test::MeshData soup = test::randomTriangleSoup(20000, 1);
+  Layouts<N> greedy(soup, binaryLeafSize);
+  Layouts<N> optimal(soup, binaryLeafSize, false, sahCollapse(maxLeafPrims));
+  expectEveryTriangleOnce(optimal);
+  const double greedySah = statisticsSah(greedy.wide), optimalSah = statisticsSah(optimal.wide);
+  EXPECT_LT(optimalSah, greedySah) << "width " << N << ", binary leaves of " << binaryLeafSize;
+  EXPECT_LT(optimal.wide.nodes.size(), greedy.wide.nodes.size());
+  if (binaryLeafSize == 1) {
+    EXPECT_LT(optimal.wide.blocks.size(), greedy.wide.blocks.size() * 3 / 4);
+  }
+}
+
+TEST(WideBvh, SahCollapseCostsLessThanGreedyAndMergesSmallLeaves) {
+  expectSahCollapseBeatsGreedy<4>(4, 28);
+  expectSahCollapseBeatsGreedy<8>(4, 28);
+  expectSahCollapseBeatsGreedy<8>(1, 4);
+  expectSahCollapseBeatsGreedy<4>(1, 8);
 }
 
 std::vector<Ray> testRays(uint32_t seed, size_t count) {
@@ -130,13 +166,16 @@ bool expectKernelsAnswerLikeTheBinaryTree(const Layouts<N>& l, const Ray& ray) {
 }
 
 // The binary tree's answer (scalar triangle test per triangle) is the reference for every kernel.
+// Both collapses; the SAH collapse may merge binary leaves into leaves of up to 28 triangles.
 template <int N>
 void expectKernelsMatchBinaryTree(const test::MeshData& mesh, int maxLeafSize, bool fast, uint32_t seed,
                                   size_t minHits) {
-  Layouts<N> l(mesh, maxLeafSize, fast);
-  size_t hits = 0;
-  for (const Ray& ray : testRays(seed, 20000)) hits += expectKernelsAnswerLikeTheBinaryTree(l, ray);
-  EXPECT_GT(hits, minHits);
+  for (const CollapseOptions& collapse : {CollapseOptions{}, sahCollapse(28)}) {
+    Layouts<N> l(mesh, maxLeafSize, fast, collapse);
+    size_t hits = 0;
+    for (const Ray& ray : testRays(seed, 20000)) hits += expectKernelsAnswerLikeTheBinaryTree(l, ray);
+    EXPECT_GT(hits, minHits);
+  }
 }
 
 TEST(WideBvh, KernelsMatchTheBinaryTreeOnATriangleSoup) {
@@ -209,8 +248,8 @@ test::MeshData wallsSeenEdgeOn() {
 }
 
 template <int N>
-void expectWallsSeenEdgeOnMatchTheBinaryTree() {
-  Layouts<N> l(wallsSeenEdgeOn(), 4);
+void expectWallsSeenEdgeOnMatchTheBinaryTree(CollapseOptions collapse) {
+  Layouts<N> l(wallsSeenEdgeOn(), 4, false, collapse);
   size_t inWallPlane = 0, hits = 0;
   for (int i = 0; i <= 64; ++i)
     for (int j = 0; j <= 64; ++j) {
@@ -226,8 +265,10 @@ void expectWallsSeenEdgeOnMatchTheBinaryTree() {
 }
 
 TEST(WideBvh, WallsSeenEdgeOnMatchTheBinaryTree) {
-  expectWallsSeenEdgeOnMatchTheBinaryTree<4>();
-  expectWallsSeenEdgeOnMatchTheBinaryTree<8>();
+  for (const CollapseOptions& collapse : {CollapseOptions{}, sahCollapse(28)}) {
+    expectWallsSeenEdgeOnMatchTheBinaryTree<4>(collapse);
+    expectWallsSeenEdgeOnMatchTheBinaryTree<8>(collapse);
+  }
 }
 
 // Packets of up to 16 rays (partial masks, coherent and incoherent lanes) find the same closest
