@@ -1,5 +1,5 @@
-// Wide BVHs (four or eight children a node): binary nodes collapsed by repeatedly opening the
-// child with the largest surface area. Child bounds are stored as structure of arrays so one SIMD
+// Wide BVHs (four or eight children a node), collapsed from a binary tree (collapseToWide).
+// Child bounds are stored as structure of arrays so one SIMD
 // test covers every child box; leaves reference groups of four triangles (TriangleBlock4).
 #pragma once
 

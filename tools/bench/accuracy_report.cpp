@@ -12,6 +12,7 @@
 
 #include "accuracy_study.h"
 #include "mesh_loader.h"
+#include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
 #include "scene_data.h"
@@ -38,23 +39,13 @@ struct ReportOptions {
 
 ReportOptions parse(int argc, char** argv) {
   ReportOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") usage("");
-    if (i + 1 >= argc) usage("missing value for " + arg);
-    const std::string value = argv[++i];
-    auto positive = [&](long maxValue) {
-      char* end = nullptr;
-      const long v = std::strtol(value.c_str(), &end, 10);
-      if (value.empty() || *end != '\0' || v <= 0 || v > maxValue) usage("invalid value '" + value + "' for " + arg);
-      return v;
-    };
+  readFlagValuePairs(argc, argv, usage, [&](const std::string& arg, const std::string& value, auto positive) {
     if (arg == "--scene") o.scenes.push_back(value);
     else if (arg == "--runs") o.runs = int(positive(1000));
     else if (arg == "--rays-per-case") o.raysPerCase = size_t(positive(100000000));
     else if (arg == "--out") o.outDir = value;
     else usage("unknown option " + arg);
-  }
+  });
   if (o.scenes.empty()) o.scenes.push_back("/usr/share/glmark2/models/bunny.obj");
   return o;
 }

@@ -9,17 +9,20 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "accuracy_report.h"
+#include "ladder_report.h"
 #include "build_quality.h"
 #include "build_statistics.h"
 #include "hit_compare.h"
 #include "image_io.h"
 #include "mesh_loader.h"
+#include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
 #include "scene_data.h"
@@ -50,6 +53,7 @@ struct Options {
                "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
                "[--out DIR] [--quality low|medium|high] [--threads N] [--source X,Y,Z]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
+               "       obvh_bench ladder --help     (what a build quality buys in trace speed)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
                "  --source: start of the point-source (transmitter) rays; default: the centre of the scene.\n"
                "  obvh's devices also take OBVH_CONFIG, e.g. OBVH_CONFIG=builder=kmeans.\n"
@@ -59,11 +63,9 @@ struct Options {
 }
 
 long parsePositive(const char* flag, const char* value, long maxValue) {
-  char* end = nullptr;
-  const long v = std::strtol(value, &end, 10);
-  if (*value == '\0' || *end != '\0' || v <= 0 || v > maxValue)
-    usage((std::string("invalid value '") + value + "' for " + flag).c_str());
-  return v;
+  const std::optional<long> v = parsePositiveNumber(value, maxValue);
+  if (!v) usage((std::string("invalid value '") + value + "' for " + flag).c_str());
+  return *v;
 }
 
 Options parseOptions(int argc, char** argv) {
@@ -221,6 +223,7 @@ void printCount(const char* name, const MismatchCount& c) {
 
 int main(int argc, char** argv) {
   if (argc > 1 && std::strcmp(argv[1], "accuracy") == 0) return runAccuracyReport(argc - 1, argv + 1);
+  if (argc > 1 && std::strcmp(argv[1], "ladder") == 0) return runLadderReport(argc - 1, argv + 1);
   const Options options = parseOptions(argc, argv);
   try {
     const SceneData scene = loadMesh(options.scene);

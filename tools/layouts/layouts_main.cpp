@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,7 @@
 #include "layout_configs.h"
 #include "layout_measure.h"
 #include "mesh_loader.h"
+#include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
 #include "scene_data.h"
@@ -46,10 +48,9 @@ struct Options {
 }
 
 int positive(const std::string& flag, const char* value) {
-  char* end = nullptr;
-  const long v = std::strtol(value, &end, 10);
-  if (*value == '\0' || *end != '\0' || v <= 0 || v > 100000) usage("invalid value '" + std::string(value) + "' for " + flag);
-  return int(v);
+  const std::optional<long> v = parsePositiveNumber(value, 100000);
+  if (!v) usage("invalid value '" + std::string(value) + "' for " + flag);
+  return int(*v);
 }
 
 Options parse(int argc, char** argv) {
