@@ -126,6 +126,12 @@ class SahCollapser {
     const int k = split_[at(index, N)];
     gather(left, k, children);
     gather(left + 1, N - k, children);
+    // Larger children first: the lane order decides between children entered at the same distance
+    // (rays starting inside several boxes) and is the any-hit visiting order. Over the greedy
+    // collapse, rays from a point source inside diagonal-42k ran 3.7x as fast in this order and
+    // 2.3x in the binary tree's left-to-right order (README, Performance).
+    std::stable_sort(children.begin(), children.end(),
+                     [&](uint32_t a, uint32_t b) { return nodes_[a].bounds.halfArea() > nodes_[b].bounds.halfArea(); });
     return writer_.emitNode(children, [this](uint32_t child) { return collapse(child); });
   }
 

@@ -186,6 +186,7 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
     if (contenders.size() % 2) std::printf(" %24.2f", median(contenders.back().mrays[w]));
     std::printf("\n");
   }
+  std::fflush(stdout);  // a scene's table as soon as it is measured, also when the output is a file
 }
 
 }  // namespace
