@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "layout_measure.h"
 #include "ray_generation.h"
@@ -48,14 +49,24 @@ TEST(LayoutMeasure, OrientedBoxesCutSahCostAndTestsOnSlantedLines) {
   EXPECT_LT(obb.views[1].volumeTestsPerRay, aabb.views[1].volumeTestsPerRay);
 }
 
+// The oriented layouts count their volume tests per pixel (the hybrid may settle on the wide
+// AABB layout, which does not).
 TEST(LayoutMeasure, WritesAHeatmap) {
   const SmallStudy s;
-  const LayoutMeasure m = measureLayout(s.scene, *findLayoutConfig("hybrid"), s.views, 1);
+  const LayoutMeasure m = measureLayout(s.scene, *findLayoutConfig("obb"), s.views, 1);
+  ASSERT_EQ(m.views[1].testsPerPixel.size(), s.views[1].rays.size());
   const std::string path = (std::filesystem::temp_directory_path() / "obvh_layout_heatmap_test.png").string();
   std::filesystem::remove(path);
   writeHeatmap(path, s.views[1], m.views[1].testsPerPixel);
   EXPECT_GT(std::filesystem::file_size(path), 100u);
   std::filesystem::remove(path);
+}
+
+TEST(LayoutMeasure, HeatmapWithoutCountsIsAnErrorNotACrash) {
+  const SmallStudy s;
+  const std::string path = (std::filesystem::temp_directory_path() / "obvh_layout_heatmap_empty.png").string();
+  EXPECT_THROW(writeHeatmap(path, s.views[1], {}), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 }  // namespace
