@@ -80,12 +80,18 @@ struct Workload {
   std::vector<RTCRay> rays;
 };
 
-// One library's scene at one quality, and its speed per round and workload.
-struct Contender {
+// A device and the quality its scenes are built at. The ladder's contenders are such pairs; each
+// second one is compared with the one before it.
+struct DeviceUnderTest {
   std::string label;
-  const RtcLibrary* lib = nullptr;
-  RTCDevice device = nullptr;
-  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
+  const RtcLibrary* lib;
+  RTCDevice device;
+  RTCBuildQuality quality;
+};
+
+// One contender's scene and its speed per round and workload.
+struct Contender {
+  DeviceUnderTest d{};
   double buildMs = 0;
   std::unique_ptr<CommittedScene> scene;
   std::vector<std::vector<double>> mrays;  // [workload][round]
@@ -109,32 +115,23 @@ RatioSummary ratios(const std::vector<double>& compared, const std::vector<doubl
   return s;
 }
 
-// A device and the scenes it builds: the contenders are (device, quality) pairs; each second
-// one is compared with the one before it.
-struct DeviceUnderTest {
-  std::string label;
-  const RtcLibrary* lib;
-  RTCDevice device;
-  RTCBuildQuality quality;
-};
-
 void runScene(const SceneData& scene, const LadderOptions& options, const RtcLibrary& embree,
               const std::vector<DeviceUnderTest>& devices) {
   std::vector<Contender> contenders;
   for (const DeviceUnderTest& d : devices) {
     Contender c;
-    c.label = d.label, c.lib = d.lib, c.device = d.device, c.quality = d.quality;
+    c.d = d;
     contenders.push_back(std::move(c));
   }
   for (Contender& c : contenders) {
-    { CommittedScene warmUp(*c.lib, c.device, scene, RTC_SCENE_FLAG_NONE, c.quality); }
-    c.buildMs = millisecondsOf([&] { c.scene = std::make_unique<CommittedScene>(*c.lib, c.device, scene, RTC_SCENE_FLAG_NONE, c.quality); });
-    if (c.lib->rtcGetDeviceError(c.device) != RTC_ERROR_NONE)
-      throw std::runtime_error(c.lib->label + ": committing " + scene.name + " failed");
+    { CommittedScene warmUp(*c.d.lib, c.d.device, scene, RTC_SCENE_FLAG_NONE, c.d.quality); }
+    c.buildMs = millisecondsOf([&] { c.scene = std::make_unique<CommittedScene>(*c.d.lib, c.d.device, scene, RTC_SCENE_FLAG_NONE, c.d.quality); });
+    if (c.d.lib->rtcGetDeviceError(c.d.device) != RTC_ERROR_NONE)
+      throw std::runtime_error(c.d.lib->label + ": committing " + scene.name + " failed");
   }
 
   RTCBounds b;
-  const Contender& reference = *std::find_if(contenders.begin(), contenders.end(), [&](const Contender& c) { return c.lib == &embree; });
+  const Contender& reference = *std::find_if(contenders.begin(), contenders.end(), [&](const Contender& c) { return c.d.lib == &embree; });
   embree.rtcGetSceneBounds(reference.scene->scene(), &b);
   const SceneBox box{{b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}};
   std::vector<Workload> workloads;
@@ -160,17 +157,17 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
       for (size_t k = 0; k < contenders.size(); ++k) {
         Contender& c = contenders[(k + size_t(round)) % contenders.size()];
         const RTCScene s = c.scene->scene();
-        c.mrays[w].push_back(workloads[w].occlusion ? traceOccludedMrays(*c.lib, s, workloads[w].rays, 1)
-                                                    : traceIntersectMrays(*c.lib, s, workloads[w].rays, 1));
+        c.mrays[w].push_back(workloads[w].occlusion ? traceOccludedMrays(*c.d.lib, s, workloads[w].rays, 1)
+                                                    : traceIntersectMrays(*c.d.lib, s, workloads[w].rays, 1));
       }
 
   std::printf("\n%s, %zu primitives; build ms:", scene.name.c_str(), scene.primitiveCount());
-  for (const Contender& c : contenders) std::printf(" %s %.1f;", c.label.c_str(), c.buildMs);
+  for (const Contender& c : contenders) std::printf(" %s %.1f;", c.d.label.c_str(), c.buildMs);
   std::printf("\n  %-22s", "Mrays/s (median)");
   for (size_t pair = 0; pair + 1 < contenders.size(); pair += 2)
-    std::printf(" %24s %24s  %-29s", contenders[pair].label.c_str(), contenders[pair + 1].label.c_str(),
+    std::printf(" %24s %24s  %-29s", contenders[pair].d.label.c_str(), contenders[pair + 1].d.label.c_str(),
                 "ratio [lowest, highest] faster");
-  if (contenders.size() % 2) std::printf(" %24s", contenders.back().label.c_str());
+  if (contenders.size() % 2) std::printf(" %24s", contenders.back().d.label.c_str());
   std::printf("\n");
   for (size_t w = 0; w < workloads.size(); ++w) {
     std::printf("  %-22s", workloads[w].name);
