@@ -109,8 +109,7 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for ray_mask (on or off)");
     } else if (name == "collapse") {
       if (value == "greedy") config.collapse = WideCollapse::Greedy;
-      else if (value == "sah") config.collapse = WideCollapse::SahOptimal;
-      else if (value == "default") config.collapse = WideCollapse::Default;
+      else if (value == "sah" || value == "default") config.collapse = WideCollapse::SahOptimal;
       else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown collapse '" + value + "' (available: greedy, sah, default)");
     } else if (name == "spatial_budget") {
       config.spatialBudget = float(parseInt(name, value, 0, 400)) / 100.f;

@@ -28,7 +28,7 @@ struct DeviceConfig {
   int kmeansArity = 0;           // 0: the layout's width (4 for bvh4, 8 for bvh8, 2 for bvh2)
   float distanceAlpha = 0.5f;
   Vec3f distanceSource{0.f, 0.f, 0.f};
-  WideCollapse collapse = WideCollapse::Default;  // collapse=greedy|sah
+  WideCollapse collapse = WideCollapse::SahOptimal;  // collapse=greedy|sah
   float spatialBudget = 1.f;  // RTC_BUILD_QUALITY_HIGH: extra references per triangle (spatial_budget, percent)
   // ray_mask=off: ignore ray and geometry masks, for programs written against builds without masks.
   bool rayMasks = true;

@@ -21,9 +21,8 @@ enum class BuildQuality { Low, Medium, High };
 // (Sah), or one of the alternatives the benchmark compares with it (device config builder=...).
 enum class TreeBuilder { Sah, KMeans, Distance };
 
-// How the wide layouts turn the binary tree into wide nodes (see collapseToWide): Default lets
-// the scene choose by build quality.
-enum class WideCollapse { Default, Greedy, SahOptimal };
+// How the wide layouts turn the binary tree into wide nodes (see collapseToWide).
+enum class WideCollapse { Greedy, SahOptimal };
 
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
@@ -51,7 +50,7 @@ struct BuildOptions {
   int kmeansArity = 8;            // KMeans: clusters per node (the device picks the layout's width)
   float distanceAlpha = 0.5f;     // Distance: weight of the SAH term against the distance term
   Vec3f distanceSource{0.f, 0.f, 0.f};  // Distance: where the rays start
-  WideCollapse collapse = WideCollapse::Default;
+  WideCollapse collapse = WideCollapse::SahOptimal;
   int leafBlockSize = 1;          // primitives tested together (SIMD leaf blocks); the SAH counts whole blocks
   // Oriented layouts.
   ObbSplit obbSplit = ObbSplit::AabbSah;  // measured best on every slanted stack preset (README)

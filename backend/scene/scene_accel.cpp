@@ -82,21 +82,13 @@ void traverseSphere(const BinaryBvh& bvh, const Vec3f& p, Radius&& radius, LeafV
 
 }  // namespace
 
-void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
-  owner_ = desc.owner;
-  geometryMasks_.assign(desc.geometryIdLimit, 0u);
-  for (const MeshDesc& mesh : desc.meshes) geometryMasks_[mesh.geomID] = mesh.mask;
-  for (const InstanceDesc& inst : desc.instances) geometryMasks_[inst.geomID] = inst.mask;
-  for (const UserGeometryDesc& user : desc.userGeometries) geometryMasks_[user.geomID] = user.mask;
-  for (const ShapeGeometryDesc& shape : desc.shapes) geometryMasks_[shape.geomID] = shape.mask;
-  intersectFiltered_ = desc.intersectFiltered;
-  occlusionFiltered_ = desc.occlusionFiltered;
-  intersectFiltered_.resize(desc.geometryIdLimit, 0);
-  occlusionFiltered_.resize(desc.geometryIdLimit, 0);
-
-  CollectedPrimitives collected = collectPrimitives(desc.meshes);
-  requested_ = options;
+// The triangle tree of the chosen layout (and, for the oriented layouts, its oriented boxes). The
+// builders reorder collected.refs.
+void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOptions& options) {
   layout_ = options.layout;
+  // The hybrid may settle on the wide AABB layout and build again: from the refs as collected.
+  std::vector<PrimRef> collectedRefs;
+  if (layout_ == AccelLayout::Hybrid) collectedRefs = collected.refs;
   BuildOptions triangleOptions = options;
   const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
   const bool oriented = layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid;
@@ -133,6 +125,35 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
                     [&](size_t i) { triangles_[i] = collected.triangles[triangleBvh_.primIndices[i]]; });
+  triangleOriented_ = OrientedBvh{};
+  if (triangleBvh_.empty() || !oriented) return;
+  triangleOriented_ = makeOrientedLayout(triangleBvh_, triangles_.data(), triangleOptions);
+  if (layout_ == AccelLayout::Hybrid && !orientedBoxesPayOff()) {
+    // Settle on the wide AABB layout, built as that layout builds itself (its SAH chooses leaves
+    // up to 28 triangles): kept from the hybrid's own build, whose leaves hold four, it traced
+    // 1.4x slower than accel=bvh8 on the small presets.
+    BuildOptions wide = options;
+    wide.layout = simd::cpuHasAvx2() ? AccelLayout::Bvh8 : AccelLayout::Bvh4;
+    collected.refs = std::move(collectedRefs);
+    buildTriangleTree(collected, wide);
+  }
+}
+
+void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
+  owner_ = desc.owner;
+  geometryMasks_.assign(desc.geometryIdLimit, 0u);
+  for (const MeshDesc& mesh : desc.meshes) geometryMasks_[mesh.geomID] = mesh.mask;
+  for (const InstanceDesc& inst : desc.instances) geometryMasks_[inst.geomID] = inst.mask;
+  for (const UserGeometryDesc& user : desc.userGeometries) geometryMasks_[user.geomID] = user.mask;
+  for (const ShapeGeometryDesc& shape : desc.shapes) geometryMasks_[shape.geomID] = shape.mask;
+  intersectFiltered_ = desc.intersectFiltered;
+  occlusionFiltered_ = desc.occlusionFiltered;
+  intersectFiltered_.resize(desc.geometryIdLimit, 0);
+  occlusionFiltered_.resize(desc.geometryIdLimit, 0);
+
+  requested_ = options;
+  CollectedPrimitives collected = collectPrimitives(desc.meshes);
+  buildTriangleTree(collected, options);
 
   std::vector<ObjectRef> objects;
   std::vector<PrimRef> objectRefs;
@@ -184,20 +205,6 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   bounds_ = Box3f{};
   if (!triangleBvh_.empty()) bounds_.extend(triangleBvh_.nodes[0].bounds);
   if (!objectBvh_.empty()) bounds_.extend(objectBvh_.nodes[0].bounds);
-  triangleOriented_ = OrientedBvh{};
-  if (!triangleBvh_.empty() && oriented) {
-    triangleOriented_ = makeOrientedLayout(triangleBvh_, triangles_.data(), triangleOptions);
-    if (layout_ == AccelLayout::Hybrid && !orientedBoxesPayOff()) {
-      // Settle on the wide AABB layout, built as that layout builds itself (its SAH chooses leaves
-      // up to 28 triangles): kept from the hybrid's own build, whose leaves hold four, it traced
-      // 1.4x slower than accel=bvh8 on the small presets.
-      BuildOptions wide = options;
-      wide.layout = simd::cpuHasAvx2() ? AccelLayout::Bvh8 : AccelLayout::Bvh4;
-      build(desc, wide);
-      requested_ = options;
-      return;
-    }
-  }
   makeTriangleViews();
 }
 
@@ -216,8 +223,8 @@ void SceneAccel::makeTriangleViews() {
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) triangleOrientedView_ = {&triangleOriented_, set};
   CollapseOptions collapse;
-  // The SAH-optimal collapse is the default: it costs no build time and traced 3-33% faster on
-  // the bunny, dragon, motorBike and the stacks, 2-4% slower on the buildings' primary rays (README).
+  // The SAH-optimal collapse is the default: it costs no build time and traced faster on the
+  // meshes and stacks, except the stacks' shadow rays (README, Performance).
   collapse.method = options_.collapse == WideCollapse::Greedy ? CollapseMethod::Greedy : CollapseMethod::SahOptimal;
   collapse.maxLeafPrims = uint32_t(std::max(options_.maxLeafSize, 1));
   if (layout_ == AccelLayout::Bvh4) {
@@ -265,7 +272,8 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
          a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
-         a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse && a.traversalCost == b.traversalCost &&
+         a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&
+         a.traversalCost == b.traversalCost &&
          a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
          a.distanceAlpha == b.distanceAlpha && a.distanceSource.x == b.distanceSource.x &&
          a.distanceSource.y == b.distanceSource.y && a.distanceSource.z == b.distanceSource.z;

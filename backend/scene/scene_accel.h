@@ -8,6 +8,7 @@
 #include "bvh/binary_bvh.h"
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
+#include "scene/primitive_collection.h"
 #include "scene/scene_desc.h"
 #include "bvh/wide_bvh.h"
 #include "bvh/oriented_bvh.h"
@@ -87,6 +88,7 @@ class SceneAccel {
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
   bool intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state, bool occlusion) const;
   bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
+  void buildTriangleTree(CollectedPrimitives& collected, const BuildOptions& options);
   bool orientedBoxesPayOff() const;
   void makeTriangleViews();
   bool intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const;
