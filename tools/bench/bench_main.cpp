@@ -290,13 +290,7 @@ int main(int argc, char** argv) {
       for (const Workload& w : workloads) run.results.push_back(trace(run, w, options.runs));
     // Secondary rays start from Embree's primary hits so both libraries answer the very same rays.
     const std::vector<RTCRayHit>& embreePrimary = runs[0].results[0].hits;
-    std::vector<float> hitT(perspective.size());
-    for (size_t i = 0; i < hitT.size(); ++i)
-      hitT[i] = embreePrimary[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? embreePrimary[i].ray.tfar
-                                                                       : std::numeric_limits<float>::infinity();
-    const float extent = std::max({box.upper[0] - box.lower[0], box.upper[1] - box.lower[1], box.upper[2] - box.lower[2]});
-    const float light[3] = {box.upper[0] + extent, box.upper[1] + 2.f * extent, box.upper[2] + extent};
-    const std::vector<RTCRay> shadow = shadowRays(perspective, hitT, light);
+    const std::vector<RTCRay> shadow = shadowRaysTowardsSceneLight(perspective, embreePrimary, box);
     const std::vector<RTCRay> diffuse = diffuseBounceRays(embreePrimary, 777u);
     const size_t firstSecondary = workloads.size();
     workloads.push_back({"diffuse bounce", Query::Intersect1, &diffuse});

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -143,12 +142,7 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
     // Shadow rays from Embree's hits of the primary rays at the first quality: the same rays for all.
     std::vector<RTCRayHit> hits;
     traceIntersectMrays(embree, reference.scene->scene(), workloads[0].rays, 1, &hits);
-    std::vector<float> hitT(hits.size());
-    for (size_t i = 0; i < hits.size(); ++i)
-      hitT[i] = hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? hits[i].ray.tfar : std::numeric_limits<float>::infinity();
-    const float extent = std::max({b.upper_x - b.lower_x, b.upper_y - b.lower_y, b.upper_z - b.lower_z});
-    const float light[3] = {b.upper_x + extent, b.upper_y + 2.f * extent, b.upper_z + extent};
-    workloads.push_back({"shadow (occluded)", true, shadowRays(workloads[0].rays, hitT, light)});
+    workloads.push_back({"shadow (occluded)", true, shadowRaysTowardsSceneLight(workloads[0].rays, hits, box)});
   }
 
   for (Contender& c : contenders) c.mrays.assign(workloads.size(), {});

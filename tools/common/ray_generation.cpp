@@ -122,6 +122,16 @@ std::vector<RTCRay> pointSourceRays(const float source[3], size_t count, uint32_
   return rays;
 }
 
+std::vector<RTCRay> shadowRaysTowardsSceneLight(const std::vector<RTCRay>& primary,
+                                                const std::vector<RTCRayHit>& hits, const SceneBox& box) {
+  std::vector<float> hitT(hits.size());
+  for (size_t i = 0; i < hits.size(); ++i)
+    hitT[i] = hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? hits[i].ray.tfar : std::numeric_limits<float>::infinity();
+  const float extent = std::max({box.upper[0] - box.lower[0], box.upper[1] - box.lower[1], box.upper[2] - box.lower[2]});
+  const float light[3] = {box.upper[0] + extent, box.upper[1] + 2.f * extent, box.upper[2] + extent};
+  return shadowRays(primary, hitT, light);
+}
+
 std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::vector<float>& hitT,
                                const float light[3]) {
   std::vector<RTCRay> rays(primary.size());

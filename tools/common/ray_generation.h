@@ -29,6 +29,11 @@ std::vector<RTCRay> pointSourceRays(const float source[3], size_t count, uint32_
 std::vector<RTCRay> shadowRays(const std::vector<RTCRay>& primary, const std::vector<float>& hitT,
                                const float light[3]);
 
+// The benchmarks' shadow rays: from the hits of the primary rays (records as rtcIntersect1 left
+// them) towards a light above and beside the scene's box.
+std::vector<RTCRay> shadowRaysTowardsSceneLight(const std::vector<RTCRay>& primary,
+                                                const std::vector<RTCRayHit>& hits, const SceneBox& box);
+
 // One cosine-distributed diffuse bounce from each hit of the primary rays (misses spawn nothing),
 // leaving the surface on the side the primary ray came from; seeded.
 std::vector<RTCRay> diffuseBounceRays(const std::vector<RTCRayHit>& primaryHits, uint32_t seed);
