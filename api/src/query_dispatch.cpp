@@ -21,16 +21,6 @@ class InstanceIdScope {
   unsigned saved_;
 };
 
-RTCHit embreeHit(const Hit& hit) {
-  RTCHit out{};
-  out.Ng_x = hit.Ng.x, out.Ng_y = hit.Ng.y, out.Ng_z = hit.Ng.z;
-  out.u = hit.u, out.v = hit.v;
-  out.primID = hit.primID;
-  out.geomID = hit.geomID;
-  out.instID[0] = hit.instID;
-  return out;
-}
-
 Hit backendHit(const RTCHit& hit) {
   Hit out;
   out.Ng = {hit.Ng_x, hit.Ng_y, hit.Ng_z};
@@ -39,16 +29,6 @@ Hit backendHit(const RTCHit& hit) {
   out.geomID = hit.geomID;
   out.instID = hit.instID[0];
   return out;
-}
-
-Ray backendRay(const RTCRay& r, bool masksOn) {
-  Ray ray;
-  ray.org = {r.org_x, r.org_y, r.org_z};
-  ray.dir = {r.dir_x, r.dir_y, r.dir_z};
-  ray.tnear = r.tnear;
-  ray.tfar = r.tfar;
-  ray.mask = masksOn ? r.mask : 0xFFFFFFFFu;
-  return ray;
 }
 
 }  // namespace

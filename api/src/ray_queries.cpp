@@ -29,10 +29,14 @@ void query(RTCScene handle, RTCIntersectContext* context, const void* rays, Body
 }  // namespace
 
 RTC_API void rtcIntersect1(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit) {
+  const Scene* s = Scene::from(scene);
+  if (s && context && rayhit && tracesDirectly(*s, *context)) return intersectDirectly(*s, *context, *rayhit);
   query(scene, context, rayhit, [&](QueryDispatch& d) { d.intersect(*rayhit); });
 }
 
 RTC_API void rtcOccluded1(RTCScene scene, RTCIntersectContext* context, RTCRay* ray) {
+  const Scene* s = Scene::from(scene);
+  if (s && context && ray && tracesDirectly(*s, *context)) return occludedDirectly(*s, *context, *ray);
   query(scene, context, ray, [&](QueryDispatch& d) { d.occluded(*ray); });
 }
 

@@ -233,6 +233,7 @@ void Scene::rebuild() {
     if (!refitted) accel_.build(desc, options);
   });
   ++buildGeneration_;
+  singleRaysDirect_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
   if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
   const size_t memory = accel_.stats().memoryBytes;
@@ -254,6 +255,10 @@ void Scene::printBuildStatistics(bool refitted, std::chrono::steady_clock::durat
               refitted ? "refitted" : "built", layoutName, stats.primitiveCount,
               std::chrono::duration<double, std::milli>(took).count(), accel_.statisticsSah(), stats.nodeCount,
               stats.leafCount, double(stats.memoryBytes) / (1024.0 * 1024.0));
+  if (stats.leafBlockCount)
+    std::printf("  leaves : %zu blocks of four triangles, %.2f%% filled, %.2f MB\n", stats.leafBlockCount,
+                100.0 * double(stats.usedBlockLanes) / double(4 * stats.leafBlockCount),
+                double(stats.leafBlockCount * sizeof(obvh::TriangleBlock4)) / (1024.0 * 1024.0));
   std::fflush(stdout);
 }
 

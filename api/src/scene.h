@@ -45,6 +45,12 @@ class Scene : public RefCounted {
   Geometry* builtGeometry(unsigned geomID) const { return builtGeometries_[geomID].get(); }
   // Whether queries must call back into the API (filters or user geometry somewhere below).
   bool needsCallbacks() const { return needsCallbacks_; }
+  // Whether single rays with this context may skip the general query path (query_dispatch.h):
+  // committed, one wide triangle tree, no callbacks (context filters included).
+  bool singleRaysDirect(const RTCIntersectContext& context) const {
+    return singleRaysDirect_ && !modified_.load(std::memory_order_relaxed) &&
+           !((flags_ & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) && context.filter);
+  }
   uint64_t buildGeneration() const { return buildGeneration_; }
 
   static Scene* from(RTCScene handle) { return reinterpret_cast<Scene*>(handle); }
@@ -69,6 +75,7 @@ class Scene : public RefCounted {
   std::vector<Ref<Geometry>> builtGeometries_;
   std::vector<uint64_t> builtChildGenerations_;  // instanced scenes' generations at the last build
   bool needsCallbacks_ = false;
+  bool singleRaysDirect_ = false;
   uint64_t buildGeneration_ = 0;
   size_t reportedMemory_ = 0;
 };

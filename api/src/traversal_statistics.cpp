@@ -8,16 +8,15 @@
 
 namespace obvh::api {
 
+std::atomic<int> countingThreads{0};
+
 namespace {
 thread_local bool counting = false;
 thread_local TraversalCounters counters;
-// Threads counting now. Every query asks for its thread's counters; reading this first spares the
-// thread-local lookup (a call into the dynamic loader from a shared library) while nobody counts.
-std::atomic<int> countingThreads{0};
 }  // namespace
 
 TraversalCounters* threadTraversalCounters() {
-  if (countingThreads.load(std::memory_order_relaxed) == 0) return nullptr;
+  if (!anyThreadCounting()) return nullptr;
   return counting ? &counters : nullptr;
 }
 

@@ -535,6 +535,10 @@ SceneStats SceneAccel::stats() const {
                   shapes_.size() * sizeof(ShapePrimitive) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +
                   triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame);
+  for (const auto* blocks : {&triangleBvh4_.blocks, &triangleBvh8_.blocks}) {
+    s.leafBlockCount += blocks->size();
+    for (const TriangleBlock4& block : *blocks) s.usedBlockLanes += size_t(__builtin_popcount(block.usedLanes()));
+  }
   return s;
 }
 

@@ -26,6 +26,8 @@ struct SceneStats {
   size_t nodeCount = 0;
   size_t leafCount = 0;
   size_t memoryBytes = 0;
+  size_t leafBlockCount = 0;  // wide layouts: four-triangle leaf blocks, and how many lanes hold a triangle
+  size_t usedBlockLanes = 0;
 };
 
 class SceneAccel {
@@ -46,6 +48,22 @@ class SceneAccel {
   // binary and oriented layouts (accel=bvh2|obb|hybrid), not for the wide ones.
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
+  // Whether the scene is one wide triangle tree and nothing else (no instances, user geometry or
+  // shapes). Its single rays may then skip intersect()'s dispatch: the two functions below, inline,
+  // call the kernels at once (state.counters must be null; no callbacks may be needed).
+  bool wideTrianglesOnly() const {
+    return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4) && objectBvh_.empty();
+  }
+  bool intersectWideTriangles(Ray& ray, Hit& hit, const QueryState& state) const {
+    if (layout_ == AccelLayout::Bvh8)
+      return !triangleView8_.empty() && triangleView8_.kernels->closest(triangleView8_, ray, hit, state);
+    return !triangleView4_.empty() && triangleView4_.kernels->closest(triangleView4_, ray, hit, state);
+  }
+  bool occludedWideTriangles(const Ray& ray, const QueryState& state) const {
+    if (layout_ == AccelLayout::Bvh8)
+      return !triangleView8_.empty() && triangleView8_.kernels->any(triangleView8_, ray, state);
+    return !triangleView4_.empty() && triangleView4_.kernels->any(triangleView4_, ray, state);
+  }
   // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
   // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
   // Return the mask of lanes that hit / are occluded.

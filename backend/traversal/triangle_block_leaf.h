@@ -2,6 +2,10 @@
 // one SIMD pass, then the scalar second half (triangle_leaf.h) for the few lanes that pass, in lane
 // order. Lane order and the shared second half make the answers bit-identical to testing the
 // triangles one by one (the scalar FloatScalar<4> instantiation is the reference).
+// The block tests are always inlined into the traversal that calls them: they are then compiled for
+// that kernel's instruction set (VEX-encoded in the AVX2 kernels, instead of the one baseline copy
+// the linker keeps of a shared instantiation), and a leaf no longer costs a call around which every
+// live vector register of the node loop is spilled.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +24,7 @@ struct BlockCandidates {
 };
 
 template <typename F4>
-inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, const WatertightRay& wr) {
+[[gnu::always_inline]] inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, const WatertightRay& wr) {
   const F4 ox = F4::broadcast(wr.org[wr.kx]), oy = F4::broadcast(wr.org[wr.ky]), oz = F4::broadcast(wr.org[wr.kz]);
   const F4 sx = F4::broadcast(wr.Sx), sy = F4::broadcast(wr.Sy);
   F4 x[3], y[3];
@@ -65,7 +69,7 @@ inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, co
 // lane by lane); the distance test, which depends on tfar as it shrinks lane by lane, stays scalar.
 // Multiplying by the sign of den is written as the two sign cases, which is exact.
 template <typename F4>
-inline int moellerBlockCandidates(const TriangleBlock4& block, const Ray& ray) {
+[[gnu::always_inline]] inline int moellerBlockCandidates(const TriangleBlock4& block, const Ray& ray) {
   F4 v[3][3];
   for (int vertex = 0; vertex < 3; ++vertex)
     for (int axis = 0; axis < 3; ++axis) v[vertex][axis] = F4::load(block.v[vertex][axis]);
@@ -96,7 +100,7 @@ inline int moellerBlockCandidates(const TriangleBlock4& block, const Ray& ray) {
 // Visits each candidate lane of the block in lane order with its triangle test result; visit
 // returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
 template <typename F4, typename Visit>
-inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
+[[gnu::always_inline]] inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
                            const Ray& ray, Visit&& visit) {
   if (set.fast) {
     for (int lanes = moellerBlockCandidates<F4>(block, ray); lanes; lanes &= lanes - 1) {
@@ -126,7 +130,7 @@ inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, 
 
 // Closest-hit test of blockCount blocks from firstBlock; shrinks ray.tfar on accepted hits.
 template <typename F4>
-inline bool intersectBlocksClosest(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
+[[gnu::always_inline]] inline bool intersectBlocksClosest(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                    uint32_t blockCount, const WatertightRay& wr, Ray& ray, Hit& hit,
                                    const QueryState& state) {
   bool found = false;
@@ -146,7 +150,7 @@ inline bool intersectBlocksClosest(const TriangleSet& set, const TriangleBlock4*
 
 // True when any triangle of the blocks blocks the ray (and the filters accept it).
 template <typename F4>
-inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
+[[gnu::always_inline]] inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                uint32_t blockCount, const WatertightRay& wr, const Ray& ray, const QueryState& state) {
   for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
     if (visitBlockHits<F4>(set, blocks[b], wr, ray, [&](const StoredTriangle& tri, const TriangleHit& th) {

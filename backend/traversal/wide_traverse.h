@@ -25,15 +25,18 @@ struct WideRayFrame {
   explicit WideRayFrame(const Ray& ray) {
     for (int axis = 0; axis < 3; ++axis) {
       zero[axis] = ray.dir[axis] == 0.f;
-      const float inv = zero[axis] ? 0.f : 1.f / ray.dir[axis];
-      // Denormal directions overflow 1/dir; the min/max form keeps their NaN rules.
-      anyZero |= zero[axis] || !std::isfinite(inv);
+      // Without branches: a zero direction's 1/dir is inf (never read: such an axis takes the
+      // origin-inside-slab test), and denormal directions overflow 1/dir; both take the min/max
+      // form, which keeps their NaN rules.
+      const float inv = 1.f / ray.dir[axis];
+      anyZero |= !(std::fabs(inv) <= std::numeric_limits<float>::max());
       org[axis] = FN::broadcast(ray.org[axis]);
       invDir[axis] = FN::broadcast(inv);
       // Positive direction: the lower plane is entered first. The slab distances are then the
       // same values the min/max form picks, without computing both.
-      nearRow[axis] = axis * 2 + (ray.dir[axis] < 0.f ? 1 : 0);
-      farRow[axis] = axis * 2 + (ray.dir[axis] < 0.f ? 0 : 1);
+      const int negative = ray.dir[axis] < 0.f;
+      nearRow[axis] = axis * 2 + negative;
+      farRow[axis] = axis * 2 + 1 - negative;
     }
   }
 };

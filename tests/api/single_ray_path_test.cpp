@@ -1,0 +1,155 @@
+// rtcIntersect1 / rtcOccluded1 take a short path straight to the triangle kernels when a scene is
+// one wide triangle tree with nothing to call back. These tests pin down when it must not be
+// taken: while traversal steps are counted, with a context filter, and before a commit.
+#include <embree3/rtcore.h>
+#include <gtest/gtest.h>
+#include <obvh/traversal_statistics.h>
+
+#include <cmath>
+#include <limits>
+
+namespace {
+
+class SingleRayPath : public ::testing::TestWithParam<const char*> {
+ protected:
+  void SetUp() override {
+    device = rtcNewDevice(GetParam());
+    ASSERT_NE(device, nullptr);
+    scene = rtcNewScene(device);
+    // Enough triangles for a tree of several nodes: a row of unit squares in the z = 0 plane.
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    constexpr unsigned kSquares = 64;
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * kSquares));
+    auto* indices = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * kSquares));
+    for (unsigned s = 0; s < kSquares; ++s) {
+      const float corners[4][3] = {{float(s), 0, 0}, {float(s) + 1, 0, 0}, {float(s) + 1, 1, 0}, {float(s), 1, 0}};
+      for (int c = 0; c < 4; ++c)
+        for (int axis = 0; axis < 3; ++axis) vertices[(4 * s + c) * 3 + axis] = corners[c][axis];
+      const unsigned quad[6] = {4 * s, 4 * s + 1, 4 * s + 2, 4 * s, 4 * s + 2, 4 * s + 3};
+      for (int k = 0; k < 6; ++k) indices[6 * s + k] = quad[k];
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  void TearDown() override {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+
+  // A ray straight down onto square 10.
+  static RTCRayHit rayDown() {
+    RTCRayHit rayhit{};
+    rayhit.ray.org_x = 10.3f, rayhit.ray.org_y = 0.4f, rayhit.ray.org_z = 5.f;
+    rayhit.ray.dir_z = -1.f;
+    rayhit.ray.tfar = std::numeric_limits<float>::infinity();
+    rayhit.ray.mask = 0xFFFFFFFFu;
+    rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    return rayhit;
+  }
+
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+};
+
+TEST_P(SingleRayPath, TraversalStatisticsCountSingleRays) {
+  rtcCommitScene(scene);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  obvhEnableTraversalStatistics(1);
+  RTCRayHit rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  EXPECT_EQ(rayhit.hit.primID, 21u);  // the upper-left half of square 10
+  ObvhTraversalStatistics counted{};
+  obvhTakeTraversalStatistics(&counted);
+  EXPECT_GT(counted.boundingVolumeTests, 0u);
+  EXPECT_GT(counted.leafVisits, 0u);
+
+  RTCRay shadow = rayDown().ray;
+  rtcOccluded1(scene, &context, &shadow);
+  EXPECT_EQ(shadow.tfar, -std::numeric_limits<float>::infinity());
+  obvhTakeTraversalStatistics(&counted);
+  EXPECT_GT(counted.leafVisits, 0u);
+
+  obvhEnableTraversalStatistics(0);
+  rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  obvhTakeTraversalStatistics(&counted);
+  EXPECT_EQ(counted.boundingVolumeTests, 0u);
+  EXPECT_EQ(counted.leafVisits, 0u);
+}
+
+// Rejects every hit and counts its calls.
+void rejectAll(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) args->valid[i] = 0;
+  ++*static_cast<int*>(args->geometryUserPtr);
+}
+
+int contextFilterCalls = 0;
+void rejectAllInContext(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) args->valid[i] = 0;
+  ++contextFilterCalls;
+}
+
+TEST_P(SingleRayPath, ContextFilterRunsWhenTheSceneAsksForIt) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.filter = rejectAllInContext;
+
+  rtcCommitScene(scene);
+  contextFilterCalls = 0;
+  RTCRayHit rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  EXPECT_EQ(rayhit.hit.geomID, 0u) << "without RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION the context filter is ignored";
+  EXPECT_EQ(contextFilterCalls, 0);
+
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcCommitScene(scene);
+  rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  EXPECT_EQ(rayhit.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_GT(contextFilterCalls, 0);
+
+  const int intersectCalls = contextFilterCalls;
+  RTCRay shadow = rayDown().ray;
+  rtcOccluded1(scene, &context, &shadow);
+  EXPECT_EQ(shadow.tfar, std::numeric_limits<float>::infinity());
+  EXPECT_GT(contextFilterCalls, intersectCalls);
+}
+
+TEST_P(SingleRayPath, GeometryFilterRuns) {
+  int calls = 0;
+  RTCGeometry geometry = rtcGetGeometry(scene, 0);
+  rtcSetGeometryUserData(geometry, &calls);
+  rtcSetGeometryIntersectFilterFunction(geometry, rejectAll);
+  rtcCommitGeometry(geometry);
+  rtcCommitScene(scene);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  EXPECT_EQ(rayhit.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_GT(calls, 0);
+}
+
+TEST_P(SingleRayPath, ModifiedSceneIsNotTracedUntilCommitted) {
+  rtcCommitScene(scene);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // marks the scene modified
+  rtcGetDeviceError(device);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit = rayDown();
+  rtcIntersect1(scene, &context, &rayhit);
+  EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_INVALID_OPERATION);
+  EXPECT_EQ(rayhit.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  RTCRay shadow = rayDown().ray;
+  rtcOccluded1(scene, &context, &shadow);
+  EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_INVALID_OPERATION);
+  EXPECT_EQ(shadow.tfar, std::numeric_limits<float>::infinity());
+}
+
+INSTANTIATE_TEST_SUITE_P(WideLayouts, SingleRayPath, ::testing::Values("accel=bvh8", "accel=bvh4"));
+
+}  // namespace
