@@ -3,9 +3,8 @@
 // order. Lane order and the shared second half make the answers bit-identical to testing the
 // triangles one by one (the scalar FloatScalar<4> instantiation is the reference).
 // The block tests are always inlined into the traversal that calls them: they are then compiled for
-// that kernel's instruction set (VEX-encoded in the AVX2 kernels, instead of the one baseline copy
-// the linker keeps of a shared instantiation), and a leaf no longer costs a call around which every
-// live vector register of the node loop is spilled.
+// that kernel's instruction set (VEX-encoded in the AVX2 kernels), not taken from the one baseline
+// copy the linker keeps of an instantiation every kernel shares.
 #pragma once
 
 #include <cstdint>

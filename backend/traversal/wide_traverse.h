@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "math/float_steps.h"
 #include "traversal/box_test.h"
 #include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
@@ -113,8 +114,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   const float initialTfar = ray.tfar;
   float limit = ray.tfar;
   const auto updateLimit = [&] {
-    limit = kNearToFar && ray.tfar < initialTfar ? std::nextafter(ray.tfar, -std::numeric_limits<float>::infinity())
-                                                 : ray.tfar;
+    limit = kNearToFar && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
   };
   StackEntry stack[(N - 1) * 128];
   int top = 0;
