@@ -1,4 +1,5 @@
 #include "query_dispatch.h"
+#include "memory/uninitialized_array.h"
 #include "traversal_statistics_state.h"
 
 #include <algorithm>
@@ -115,10 +116,10 @@ void QueryDispatch::intersectPacket(const int* valid, RTCRayHitN* packet, unsign
   }
   for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
     const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
-    Ray rays[kMaxPacketSize];
-    Hit hits[kMaxPacketSize];
-    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays);
-    uint32_t found = scene_.accel().intersectPacket(rays, hits, active, state_);
+    UninitializedArray<Ray, kMaxPacketSize> rays;  // only the active lanes are written and read
+    UninitializedArray<Hit, kMaxPacketSize> hits;
+    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays.data());
+    uint32_t found = scene_.accel().intersectPacket(rays.data(), hits.data(), active, state_);
     for (; found; found &= found - 1) {
       const unsigned k = unsigned(__builtin_ctz(found)), i = first + k;
       RTCRayN_tfar(rayN, N, i) = rays[k].tfar;
@@ -139,9 +140,9 @@ void QueryDispatch::occludedPacket(const int* valid, RTCRayN* rayN, unsigned N) 
   }
   for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
     const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
-    Ray rays[kMaxPacketSize];
-    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays);
-    for (uint32_t blocked = scene_.accel().occludedPacket(rays, active, state_); blocked; blocked &= blocked - 1)
+    UninitializedArray<Ray, kMaxPacketSize> rays;
+    const uint32_t active = gatherLanes(valid, rayN, N, first, count, masksOn_, rays.data());
+    for (uint32_t blocked = scene_.accel().occludedPacket(rays.data(), active, state_); blocked; blocked &= blocked - 1)
       RTCRayN_tfar(rayN, N, first + unsigned(__builtin_ctz(blocked))) = -std::numeric_limits<float>::infinity();
   }
 }

@@ -451,6 +451,7 @@ uint32_t SceneAccel::intersectPacket(Ray* rays, Hit* hits, uint32_t active, cons
       if (intersect(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], state)) found |= 1u << __builtin_ctz(m);
     return found;
   }
+  if (objectBvh_.empty()) return found;
   for (uint32_t m = active; m; m &= m - 1)
     if (intersectObjects(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], state)) found |= 1u << __builtin_ctz(m);
   return found;
@@ -467,6 +468,7 @@ uint32_t SceneAccel::occludedPacket(const Ray* rays, uint32_t active, const Quer
       if (occluded(rays[__builtin_ctz(m)], state)) blocked |= 1u << __builtin_ctz(m);
     return blocked;
   }
+  if (objectBvh_.empty()) return blocked;
   for (uint32_t m = active & ~blocked; m; m &= m - 1)
     if (occludedObjects(rays[__builtin_ctz(m)], state)) blocked |= 1u << __builtin_ctz(m);
   return blocked;

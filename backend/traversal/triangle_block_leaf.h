@@ -14,8 +14,64 @@
 
 namespace obvh {
 
-// Lanes whose edge functions pass the sign test (resolve them with U, V, W) and lanes where an
-// edge function rounded to zero (test those again with the scalar test's double-precision fallback).
+// The watertight test's edge functions U, V, W (weights of v0, v1, v2) for SIMD lanes that are
+// either four triangles of one ray (blocks) or several rays against one triangle (packets): the
+// vertices relative to the origin in the ray's (kx, ky, kz) order, sheared. Same operations and
+// order as the scalar test, so every lane rounds as it does.
+template <typename F>
+struct ShearedEdges {
+  F x[3], y[3];
+  F U, V, W;
+};
+
+template <typename F>
+[[gnu::always_inline]] inline ShearedEdges<F> shearedEdges(const F vertex[3][3], const F org[3], const F& sx,
+                                                           const F& sy) {
+  ShearedEdges<F> e;
+  for (int k = 0; k < 3; ++k) {
+    const F dx = vertex[k][0] - org[0];
+    const F dy = vertex[k][1] - org[1];
+    const F dz = vertex[k][2] - org[2];
+    e.x[k] = dx - sx * dz;
+    e.y[k] = dy - sy * dz;
+  }
+  e.U = e.x[2] * e.y[1] - e.y[2] * e.x[1];
+  e.V = e.x[0] * e.y[2] - e.y[0] * e.x[2];
+  e.W = e.x[1] * e.y[0] - e.y[1] * e.x[0];
+  return e;
+}
+
+// Lanes (of `used`) whose edge functions pass the sign test, to be resolved with their U, V, W, and
+// lanes where an edge function rounded to zero, to be tested again with the scalar test's
+// double-precision fallback.
+struct EdgeVerdict {
+  int resolve = 0;
+  int recheck = 0;
+};
+
+template <typename F>
+[[gnu::always_inline]] inline EdgeVerdict judgeEdges(const ShearedEdges<F>& e, int used) {
+  const F zero = F::broadcast(0.f);
+  const int anyZero = equalMask(e.U, zero) | equalMask(e.V, zero) | equalMask(e.W, zero);
+  const int anyNegative = lessMask(e.U, zero) | lessMask(e.V, zero) | lessMask(e.W, zero);
+  const int anyPositive = lessMask(zero, e.U) | lessMask(zero, e.V) | lessMask(zero, e.W);
+  EdgeVerdict verdict;
+  verdict.recheck = anyZero & used;
+  if (verdict.recheck) {
+    // Two vertices that coincide in the ray's frame (a wall seen edge-on by a ray parallel to it,
+    // as in orthographic views of stacks) make their edge function exactly zero and the other two
+    // exact negatives, in float and in the scalar test's double fallback alike: that test rejects
+    // the triangle (determinant zero), so such lanes need no recheck.
+    const int coincident = (equalMask(e.x[0], e.x[1]) & equalMask(e.y[0], e.y[1])) |
+                           (equalMask(e.x[1], e.x[2]) & equalMask(e.y[1], e.y[2])) |
+                           (equalMask(e.x[2], e.x[0]) & equalMask(e.y[2], e.y[0]));
+    verdict.recheck &= ~coincident;
+  }
+  verdict.resolve = ~(anyNegative & anyPositive) & ~anyZero & used;
+  return verdict;
+}
+
+// A block's four triangles against one ray.
 struct BlockCandidates {
   int resolve = 0;
   int recheck = 0;
@@ -24,42 +80,20 @@ struct BlockCandidates {
 
 template <typename F4>
 [[gnu::always_inline]] inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, const WatertightRay& wr) {
-  const F4 ox = F4::broadcast(wr.org[wr.kx]), oy = F4::broadcast(wr.org[wr.ky]), oz = F4::broadcast(wr.org[wr.kz]);
-  const F4 sx = F4::broadcast(wr.Sx), sy = F4::broadcast(wr.Sy);
-  F4 x[3], y[3];
-  for (int vertex = 0; vertex < 3; ++vertex) {
-    // Same operations and order as the scalar test: (v - org) per axis, then the shear.
-    const F4 dx = F4::load(block.v[vertex][wr.kx]) - ox;
-    const F4 dy = F4::load(block.v[vertex][wr.ky]) - oy;
-    const F4 dz = F4::load(block.v[vertex][wr.kz]) - oz;
-    x[vertex] = dx - sx * dz;
-    y[vertex] = dy - sy * dz;
-  }
-  const F4 U = x[2] * y[1] - y[2] * x[1];
-  const F4 V = x[0] * y[2] - y[0] * x[2];
-  const F4 W = x[1] * y[0] - y[1] * x[0];
-  const F4 zero = F4::broadcast(0.f);
-  const int anyZero = equalMask(U, zero) | equalMask(V, zero) | equalMask(W, zero);
-  const int anyNegative = lessMask(U, zero) | lessMask(V, zero) | lessMask(W, zero);
-  const int anyPositive = lessMask(zero, U) | lessMask(zero, V) | lessMask(zero, W);
-  const int used = block.usedLanes();
+  const F4 org[3] = {F4::broadcast(wr.org[wr.kx]), F4::broadcast(wr.org[wr.ky]), F4::broadcast(wr.org[wr.kz])};
+  const int axes[3] = {wr.kx, wr.ky, wr.kz};
+  F4 vertex[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) vertex[k][a] = F4::load(block.v[k][axes[a]]);
+  const ShearedEdges<F4> e = shearedEdges(vertex, org, F4::broadcast(wr.Sx), F4::broadcast(wr.Sy));
+  const EdgeVerdict verdict = judgeEdges(e, block.usedLanes());
   BlockCandidates c;
-  c.recheck = anyZero & used;
-  if (c.recheck) {
-    // Two vertices that coincide in the ray's frame (a wall seen edge-on by a ray parallel to it,
-    // as in orthographic views of stacks) make their edge function exactly zero and the other two
-    // exact negatives, in float and in the scalar test's double fallback alike: that test rejects
-    // the triangle (determinant zero), so such lanes need no recheck.
-    const int coincident = (equalMask(x[0], x[1]) & equalMask(y[0], y[1])) |
-                           (equalMask(x[1], x[2]) & equalMask(y[1], y[2])) |
-                           (equalMask(x[2], x[0]) & equalMask(y[2], y[0]));
-    c.recheck &= ~coincident;
-  }
-  c.resolve = ~(anyNegative & anyPositive) & ~anyZero & used;
+  c.resolve = verdict.resolve;
+  c.recheck = verdict.recheck;
   if (c.resolve) {
-    U.store(c.U);
-    V.store(c.V);
-    W.store(c.W);
+    e.U.store(c.U);
+    e.V.store(c.V);
+    e.W.store(c.W);
   }
   return c;
 }

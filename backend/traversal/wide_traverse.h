@@ -6,11 +6,14 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "math/float_steps.h"
+#include "memory/uninitialized_array.h"
 #include "traversal/box_test.h"
 #include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
+#include "traversal/triangle_packet_leaf.h"
 #include "traversal/wide_traversal.h"
 
 namespace obvh {
@@ -18,21 +21,22 @@ namespace obvh {
 template <typename FN>
 struct WideRayFrame {
   FN org[3], invDir[3];
+  float inv[3];               // 1/dir per axis, as invDir holds it in every lane
   int nearRow[3], farRow[3];  // rows of WideNode::bounds holding each axis' entry and exit planes
-  bool anyZero = false;       // some axis along which the ray does not move (or 1/dir overflows)
+  bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
 
   WideRayFrame() = default;
-  explicit WideRayFrame(const Ray& ray) {
+  explicit WideRayFrame(const Ray& ray) : anyZero(false) {
     for (int axis = 0; axis < 3; ++axis) {
       zero[axis] = ray.dir[axis] == 0.f;
       // Without branches: a zero direction's 1/dir is inf (never read: such an axis takes the
       // origin-inside-slab test), and denormal directions overflow 1/dir; both take the min/max
       // form, which keeps their NaN rules.
-      const float inv = 1.f / ray.dir[axis];
-      anyZero |= !(std::fabs(inv) <= std::numeric_limits<float>::max());
+      inv[axis] = 1.f / ray.dir[axis];
+      anyZero |= !(std::fabs(inv[axis]) <= std::numeric_limits<float>::max());
       org[axis] = FN::broadcast(ray.org[axis]);
-      invDir[axis] = FN::broadcast(inv);
+      invDir[axis] = FN::broadcast(inv[axis]);
       // Positive direction: the lower plane is entered first. The slab distances are then the
       // same values the min/max form picks, without computing both.
       const int negative = ray.dir[axis] < 0.f;
@@ -94,18 +98,14 @@ inline void prefetchChild(const TriangleWideView<FN::kWidth>& bvh, uint32_t chil
 // Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
 // the sorting); leafVisitor(firstBlock, blockCount) returns true to stop. kCounted adds box tests
 // and leaf visits to *counters (a separate instantiation, so the normal path pays nothing).
+// traverseWideFrom starts at any node (a packet hands a ray over to it mid-tree); always inlined,
+// so that the frame stays in registers (passed by reference to a call it cost ~15 instructions a ray).
 template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
-void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor,
-                  TraversalCounters* counters = nullptr) {
+[[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
+                                                  const WideRayFrame<FN>& frame, const Ray& ray,
+                                                  LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
   constexpr int N = FN::kWidth;
   using Node = WideNode<N>;
-  if (bvh.empty()) return;
-  if (Node::isLeaf(bvh.root)) {
-    if constexpr (kCounted) ++counters->leafVisits;
-    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
-    return;
-  }
-  const WideRayFrame<FN> frame(ray);
   // Once a closest-hit query has a hit (tfar shrank), a box entered exactly at tfar can only add
   // hits at that same distance: an equally valid answer, not a closer one. Skipping such boxes
   // matters for rays parallel to flat layers, where many boxes share the entry distance.
@@ -122,7 +122,7 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   // The root starts in a register: pushed and popped at once, it cost a store-forwarding stall
   // (a third of the time of a ray missing the scene before StackEntry existed).
   if (ray.tnear > limit) return;
-  uint32_t current = bvh.root;
+  uint32_t current = start;
   for (;;) {
     for (;;) {
       if (Node::isLeaf(current)) {
@@ -192,6 +192,19 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
   }
 }
 
+template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
+void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor,
+                  TraversalCounters* counters = nullptr) {
+  using Node = WideNode<FN::kWidth>;
+  if (bvh.empty()) return;
+  if (Node::isLeaf(bvh.root)) {
+    if constexpr (kCounted) ++counters->leafVisits;
+    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
+    return;
+  }
+  traverseWideFrom<FN, kNearToFar, kCounted>(bvh, bvh.root, WideRayFrame<FN>(ray), ray, leafVisitor, counters);
+}
+
 // A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
 // their direction signs and move along every axis: one child box is then tested against a whole
 // group with the same per-ray operations as intersectWideNode (near/far planes chosen by sign,
@@ -207,15 +220,22 @@ struct PacketLanes {
   int groups = 0;
   bool usable = false;
 
-  PacketLanes(const Ray* rays, const WideRayFrame<FN>* frames, uint32_t active) {
-    if (active == 0) return;
+  // Whether the rays of active all move along every axis, with the same direction signs.
+  static bool sharedSigns(const WideRayFrame<FN>* frames, uint32_t active) {
+    if (active == 0) return false;
     const int first = __builtin_ctz(active);
     for (uint32_t m = active; m; m &= m - 1) {
       const WideRayFrame<FN>& f = frames[__builtin_ctz(m)];
-      if (f.anyZero) return;
+      if (f.anyZero) return false;
       for (int axis = 0; axis < 3; ++axis)
-        if (f.nearRow[axis] != frames[first].nearRow[axis]) return;
+        if (f.nearRow[axis] != frames[first].nearRow[axis]) return false;
     }
+    return true;
+  }
+
+  PacketLanes(const Ray* rays, const WideRayFrame<FN>* frames, uint32_t active) {
+    if (!sharedSigns(frames, active)) return;
+    const int first = __builtin_ctz(active);
     for (int axis = 0; axis < 3; ++axis) {
       nearRow[axis] = frames[first].nearRow[axis];
       farRow[axis] = frames[first].farRow[axis];
@@ -226,7 +246,7 @@ struct PacketLanes {
       const bool on = (active >> r) & 1;
       for (int axis = 0; axis < 3; ++axis) {
         org[axis][r] = on ? rays[r].org[axis] : 0.f;
-        invDir[axis][r] = on ? 1.f / rays[r].dir[axis] : 0.f;  // the value WideRayFrame holds
+        invDir[axis][r] = on ? frames[r].inv[axis] : 0.f;
       }
       // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
       tnear[r] = on ? rays[r].tnear : std::numeric_limits<float>::infinity();
@@ -280,10 +300,14 @@ struct PacketLanes {
 // PacketLanes is usable, else each ray with the single-ray kernel above), while the packet shares
 // the node loads, one stack and one near-to-far order (by the smallest entry distance among the
 // rays entering a child). Rays leave the packet when leafVisitor(firstBlock, blockCount, rays)
-// reports them finished (any-hit).
-template <typename FN, bool kNearToFar, typename LeafVisitor>
+// reports them finished (any-hit). Where no more than kPacketSoloRays rays enter an interior node,
+// soloVisitor(node, rays) traces each of them through that subtree alone (single-ray traversal,
+// which orders and culls per ray) and returns those finished: sharing the node loads no longer pays.
+constexpr int kPacketSoloRays = 4;
+
+template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
 void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, const WideRayFrame<FN>* frames,
-                        uint32_t active, LeafVisitor&& leafVisitor) {
+                        uint32_t active, LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
   constexpr int N = FN::kWidth;
   using Node = WideNode<N>;
   if (bvh.empty() || active == 0) return;
@@ -315,6 +339,12 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     while (currentRays) {
       if (Node::isLeaf(current)) {
         active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
+        if (active == 0) return;
+        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
+        break;
+      }
+      if (__builtin_popcount(currentRays) <= kPacketSoloRays) {
+        active &= ~soloVisitor(current, currentRays);
         if (active == 0) return;
         if (lanes.usable) lanes.refreshTfar(rays, currentRays);
         break;
@@ -365,71 +395,6 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   }
 }
 
-// The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
-// the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
-// at the root; the triangle test's constants are made at a ray's first leaf.
-template <typename FN>
-struct PacketFrames {
-  WideRayFrame<FN> box[kMaxPacketSize];
-  uint32_t live = 0;
-
-  PacketFrames(const Ray* rays, uint32_t active) {
-    for (; active; active &= active - 1) {
-      const int r = __builtin_ctz(active);
-      if (rays[r].tnear > rays[r].tfar) continue;
-      live |= 1u << r;
-      box[r] = WideRayFrame<FN>(rays[r]);
-    }
-  }
-
-  const WatertightRay& triangleFrame(const Ray* rays, int r) {
-    if (!((prepared_ >> r) & 1)) {
-      watertight_[r] = WatertightRay(rays[r]);
-      prepared_ |= 1u << r;
-    }
-    return watertight_[r];
-  }
-
- private:
-  WatertightRay watertight_[kMaxPacketSize];
-  uint32_t prepared_ = 0;
-};
-
-template <typename FN, typename F4>
-uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
-                                        uint32_t active, const QueryState& state) {
-  PacketFrames<FN> f(rays, active);
-  uint32_t found = 0;
-  traverseWidePacket<FN, true>(bvh, rays, f.box, f.live, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    for (; mask; mask &= mask - 1) {
-      const int r = __builtin_ctz(mask);
-      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
-                                     hits[r], state))
-        found |= 1u << r;
-    }
-    return 0u;
-  });
-  return found;
-}
-
-template <typename FN, typename F4>
-uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
-                                    const QueryState& state) {
-  PacketFrames<FN> f(rays, active);
-  uint32_t occluded = 0;
-  traverseWidePacket<FN, false>(bvh, rays, f.box, f.live, [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    uint32_t finished = 0;
-    for (; mask; mask &= mask - 1) {
-      const int r = __builtin_ctz(mask);
-      if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r], state))
-        finished |= 1u << r;
-    }
-    occluded |= finished;
-    return finished;
-  });
-  return occluded;
-}
-
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
   // The triangle test's constants (three divisions) only for rays that reach a leaf.
@@ -455,6 +420,143 @@ bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ra
     return found;
   }, state.counters);
   return found;
+}
+
+// The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
+// the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
+// at the root; the triangle test's constants are made at the packet's first leaf.
+template <typename FN>
+struct PacketFrames {
+  WideRayFrame<FN> box[kMaxPacketSize];
+  uint32_t live = 0;
+
+  PacketFrames(const Ray* rays, uint32_t active) {
+    for (; active; active &= active - 1) {
+      const int r = __builtin_ctz(active);
+      if (rays[r].tnear > rays[r].tfar) continue;
+      live |= 1u << r;
+      box[r] = WideRayFrame<FN>(rays[r]);
+    }
+  }
+
+  // Ray r's triangle-test frame, made when first asked for.
+  const WatertightRay& triangleFrame(const Ray* rays, int r) {
+    if (!((prepared_ >> r) & 1)) {
+      watertight_[r] = WatertightRay(rays[r]);
+      prepared_ |= 1u << r;
+    }
+    return watertight_[r];
+  }
+  // Every live ray's triangle-test frame, and the rays as SIMD lanes of the triangle test when
+  // they share its axis order (else shear().usable is false).
+  const WatertightRay* triangleFrames(const Ray* rays) {
+    for (uint32_t m = live & ~prepared_; m; m &= m - 1) triangleFrame(rays, __builtin_ctz(m));
+    return watertight_.data();
+  }
+  const PacketShear<FN>& shear(const Ray* rays) {
+    if (!shear_) shear_.emplace(triangleFrames(rays), live);
+    return *shear_;
+  }
+
+ private:
+  UninitializedArray<WatertightRay, kMaxPacketSize> watertight_;
+  uint32_t prepared_ = 0;
+  std::optional<PacketShear<FN>> shear_;
+};
+
+// A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least this share of
+// a lane group reaches it together; fewer rays are tested one by one against the blocks' four
+// triangles at a time, which costs less per ray than a pass over every triangle.
+template <typename FN>
+bool leafTestsRaysAsLanes(const TriangleSet& set, uint32_t rays) {
+  return !set.fast && __builtin_popcount(rays) * 2 >= FN::kWidth;
+}
+
+template <typename FN, typename F4>
+uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
+                                        uint32_t active, const QueryState& state) {
+  PacketFrames<FN> f(rays, active);
+  uint32_t found = 0;
+  const auto closestAlone = [&](uint32_t start, int r) {
+    traverseWideFrom<FN, true>(bvh, start, f.box[r], rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     hits[r], state))
+        found |= 1u << r;
+      return false;
+    });
+  };
+  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {
+    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
+    // would be tested ray by ray, along the union of their paths): each goes alone.
+    for (uint32_t m = f.live; m; m &= m - 1) closestAlone(bvh.root, __builtin_ctz(m));
+    return found;
+  }
+  const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
+      found |= intersectBlocksClosestPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
+                                                f.triangleFrames(rays), rays, hits, mask, state);
+      return 0u;
+    }
+    for (; mask; mask &= mask - 1) {
+      const int r = __builtin_ctz(mask);
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     hits[r], state))
+        found |= 1u << r;
+    }
+    return 0u;
+  };
+  const auto solo = [&](uint32_t node, uint32_t mask) {
+    for (; mask; mask &= mask - 1) closestAlone(node, __builtin_ctz(mask));
+    return 0u;
+  };
+  traverseWidePacket<FN, true>(bvh, rays, f.box, f.live, leaf, solo);
+  return found;
+}
+
+template <typename FN, typename F4>
+uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
+                                    const QueryState& state) {
+  PacketFrames<FN> f(rays, active);
+  uint32_t occluded = 0;
+  const auto anyAlone = [&](uint32_t start, int r) {
+    bool found = false;
+    traverseWideFrom<FN, false>(bvh, start, f.box[r], rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
+      found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     state);
+      return found;
+    });
+    return found;
+  };
+  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {  // as for closest hits
+    for (uint32_t m = f.live; m; m &= m - 1)
+      if (anyAlone(bvh.root, __builtin_ctz(m))) occluded |= 1u << __builtin_ctz(m);
+    return occluded;
+  }
+  const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    uint32_t finished = 0;
+    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
+      finished = intersectBlocksAnyPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
+                                              f.triangleFrames(rays), rays, mask, state);
+    } else {
+      for (; mask; mask &= mask - 1) {
+        const int r = __builtin_ctz(mask);
+        if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                   state))
+          finished |= 1u << r;
+      }
+    }
+    occluded |= finished;
+    return finished;
+  };
+  const auto solo = [&](uint32_t node, uint32_t mask) {
+    uint32_t finished = 0;
+    for (; mask; mask &= mask - 1)
+      if (anyAlone(node, __builtin_ctz(mask))) finished |= 1u << __builtin_ctz(mask);
+    occluded |= finished;
+    return finished;
+  };
+  traverseWidePacket<FN, false>(bvh, rays, f.box, f.live, leaf, solo);
+  return occluded;
 }
 
 // The kernel set of one vector type pair (node width FN, four-lane triangle type F4).

@@ -294,6 +294,17 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
         const float sign[3] = {p & 4 ? -1.f : 1.f, p & 8 ? -1.f : 1.f, p & 16 ? -1.f : 1.f};
         for (int axis = 0; axis < 3; ++axis) rays[r].dir[axis] = sign[axis] * (0.05f + std::fabs(d[axis]));
       }
+      if (p % 4 == 3) {
+        // One dominant axis and sign for every ray, as a camera's rays have: the packet then also
+        // tests each triangle against its rays as SIMD lanes (PacketShear).
+        const Vec3f first = pool[p * 16].dir;
+        int dominant = 0;
+        for (int axis = 1; axis < 3; ++axis)
+          if (std::fabs(first[axis]) > std::fabs(first[dominant])) dominant = axis;
+        const Vec3f d = pool[p * 16 + r].dir;
+        for (int axis = 0; axis < 3; ++axis)
+          rays[r].dir[axis] = axis == dominant ? std::copysign(1.f, first[axis]) : 0.5f * d[axis] / (std::fabs(d[axis]) + 1.f);
+      }
     }
     Ray packetRays[kMaxPacketSize];
     std::copy(rays, rays + 16, packetRays);
