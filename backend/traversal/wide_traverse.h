@@ -252,7 +252,46 @@ struct PacketLanes {
       tnear[r] = on ? rays[r].tnear : std::numeric_limits<float>::infinity();
       tfar[r] = on ? rays[r].tfar : -std::numeric_limits<float>::infinity();
     }
+    // The packet's bounds per axis: origin and 1/dir ranges (1/dir has one sign per axis here).
+    tnearLow = std::numeric_limits<float>::infinity();
+    for (uint32_t m = active; m; m &= m - 1) tnearLow = std::min(tnearLow, rays[__builtin_ctz(m)].tnear);
+    for (int axis = 0; axis < 3; ++axis) {
+      float orgLow = std::numeric_limits<float>::infinity(), orgHigh = -orgLow;
+      float invLow = orgLow, invHigh = -orgLow;
+      for (uint32_t m = active; m; m &= m - 1) {
+        const int r = __builtin_ctz(m);
+        orgLow = std::min(orgLow, org[axis][r]), orgHigh = std::max(orgHigh, org[axis][r]);
+        invLow = std::min(invLow, invDir[axis][r]), invHigh = std::max(invHigh, invDir[axis][r]);
+      }
+      const bool positive = invLow > 0.f;
+      nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
+      farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
+      invBounds[axis][0] = FN::broadcast(invLow);
+      invBounds[axis][1] = FN::broadcast(invHigh);
+    }
+    refreshTfarHigh();
     usable = true;
+  }
+
+  // The children that some ray of the packet may enter, from one test of all of them against the
+  // packet's bounds. Every step is monotone in its operands (rounded subtraction and
+  // multiplication, min, max), so the bounds are bounds of the values each ray computes, not only
+  // of exact ones: nearLow <= every ray's entry distance and farHigh >= every ray's exit distance,
+  // and a child with nearLow > farHigh is entered by none. An unused child (NaN bounds) gets a NaN
+  // nearLow and fails, as in the per-ray test.
+  template <int N>
+  int mayEnter(const WideNode<N>& node) const {
+    static_assert(N == kLanes, "one lane per child");
+    FN nearLow = FN::broadcast(tnearLow);
+    FN farHigh = FN::broadcast(std::numeric_limits<float>::infinity());
+    for (int axis = 0; axis < 3; ++axis) {
+      const FN dn = FN::load(node.bounds[nearRow[axis]]) - nearBoundOrg[axis];
+      nearLow = max(nearLow, min(dn * invBounds[axis][0], dn * invBounds[axis][1]));
+      const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
+      farHigh = min(farHigh, max(df * invBounds[axis][0], df * invBounds[axis][1]));
+    }
+    farHigh = min(farHigh * FN::broadcast(kConservativeFarScale), FN::broadcast(tfarHigh));
+    return lessEqualMask(nearLow, farHigh);
   }
 
   // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
@@ -260,6 +299,8 @@ struct PacketLanes {
   template <int N>
   int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
     int entered = 0;
+    const int candidateChildren = mayEnter(node);
+    if (candidateChildren == 0) return 0;
     for (int g = 0; g < groups; ++g) {
       const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
       if (groupRays == 0) continue;
@@ -268,8 +309,8 @@ struct PacketLanes {
       const FN inv[3] = {FN::load(invDir[0] + base), FN::load(invDir[1] + base), FN::load(invDir[2] + base)};
       const FN tnearLanes = FN::load(tnear + base), tfarLanes = FN::load(tfar + base);
       const FN farScale = FN::broadcast(kConservativeFarScale);
-      for (int c = 0; c < N; ++c) {
-        if (node.child[c] == WideNode<N>::kEmptyChild) continue;
+      for (int candidates = candidateChildren; candidates; candidates &= candidates - 1) {
+        const int c = __builtin_ctz(unsigned(candidates));
         FN nearT = tnearLanes;
         FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
         for (int axis = 0; axis < 3; ++axis) {
@@ -293,7 +334,18 @@ struct PacketLanes {
 
   void refreshTfar(const Ray* rays, uint32_t changed) {
     for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
+    refreshTfarHigh();
   }
+
+ private:
+  void refreshTfarHigh() {
+    tfarHigh = -std::numeric_limits<float>::infinity();
+    for (int r = 0; r < groups * kLanes; ++r) tfarHigh = std::max(tfarHigh, tfar[r]);
+  }
+
+  FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
+  FN invBounds[3][2];                  // lowest and highest 1/dir
+  float tnearLow = 0.f, tfarHigh = 0.f;
 };
 
 // Packet traversal: every box decision is the single ray's (rays as SIMD lanes per child box when
