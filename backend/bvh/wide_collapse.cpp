@@ -157,6 +157,11 @@ class SahCollapser {
 
   void plan() {
     const size_t count = nodes_.size();
+    // Tables of tens of MB for the large meshes: huge pages spare the faults of 4 KiB first touches.
+    reserveWithHugePages(cost_, count * N);
+    reserveWithHugePages(split_, count * N);
+    reserveWithHugePages(roots_, count * N);
+    reserveWithHugePages(range_, count);
     cost_.assign(count * N, kInfinity);
     split_.assign(count * N, 0);
     roots_.assign(count * N, 1);
@@ -164,7 +169,7 @@ class SahCollapser {
     range_.assign(count, {});
     // Reverse pre-order visits children before their parent, whatever order a builder stored.
     std::vector<uint32_t> preOrder;
-    preOrder.reserve(count);
+    reserveWithHugePages(preOrder, count);
     std::vector<uint32_t> pending{0};
     while (!pending.empty()) {
       const uint32_t node = pending.back();
