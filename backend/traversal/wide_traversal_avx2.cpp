@@ -5,9 +5,11 @@
 // whichever copy of them the linker keeps runs on every CPU; the run-time check picks this file's
 // kernels only on CPUs with AVX2. No FMA contraction (-ffp-contract=off): every lane rounds like
 // the scalar reference.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "simd/float4_sse.h"
 #include "traversal/box_test.h"
@@ -18,7 +20,7 @@
 #pragma GCC target("avx2")
 
 #include "simd/float8_avx.h"
-#include "traversal/wide_traverse.h"
+#include "traversal/wide_kernels.h"
 
 namespace obvh {
 

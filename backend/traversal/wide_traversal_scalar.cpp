@@ -1,6 +1,6 @@
 // The scalar reference instantiations of the wide kernels.
 #include "simd/float_scalar.h"
-#include "traversal/wide_traverse.h"
+#include "traversal/wide_kernels.h"
 
 namespace obvh {
 

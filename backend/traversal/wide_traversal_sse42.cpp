@@ -1,8 +1,10 @@
 // The SSE4.2 instantiation of the four-wide kernels, in a target region for the reason given in
 // wide_traversal_avx2.cpp.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "simd/float4_sse.h"
 #include "traversal/box_test.h"
@@ -12,7 +14,7 @@
 #pragma GCC push_options
 #pragma GCC target("sse4.2")
 
-#include "traversal/wide_traverse.h"
+#include "traversal/wide_kernels.h"
 
 namespace obvh {
 

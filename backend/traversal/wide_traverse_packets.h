@@ -1,0 +1,397 @@
+// Packet traversal of the wide BVHs (rtcIntersect4/8/16, rtcOccluded4/8/16 and streams): the rays
+// of a packet share node loads, one stack and one near-to-far order, while every box decision and
+// every triangle answer stays the single ray's. Included, like wide_traverse.h, only inside the
+// per-ISA target regions (see wide_traversal_avx2.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "memory/uninitialized_array.h"
+#include "traversal/triangle_packet_leaf.h"
+#include "traversal/wide_traverse.h"
+
+namespace obvh {
+
+// A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
+// their direction signs and move along every axis: one child box is then tested against a whole
+// group with the same per-ray operations as intersectWideNode (near/far planes chosen by sign,
+// (plane - org) * invDir, the same max/min order), so every box decision stays the single ray's.
+template <typename FN>
+struct PacketLanes {
+  static constexpr int kLanes = FN::kWidth;
+  alignas(32) float org[3][kMaxPacketSize];
+  alignas(32) float invDir[3][kMaxPacketSize];
+  alignas(32) float tnear[kMaxPacketSize];
+  alignas(32) float tfar[kMaxPacketSize];  // kept equal to the rays' tfar as hits shrink it
+  int nearRow[3] = {}, farRow[3] = {};
+  int groups = 0;
+  bool usable = false;
+
+  // Whether the rays of active all move along every axis, with the same direction signs.
+  static bool sharedSigns(const WideRayFrame<FN>* frames, uint32_t active) {
+    if (active == 0) return false;
+    const int first = __builtin_ctz(active);
+    for (uint32_t m = active; m; m &= m - 1) {
+      const WideRayFrame<FN>& f = frames[__builtin_ctz(m)];
+      if (f.anyZero) return false;
+      for (int axis = 0; axis < 3; ++axis)
+        if (f.nearRow[axis] != frames[first].nearRow[axis]) return false;
+    }
+    return true;
+  }
+
+  PacketLanes(const Ray* rays, const WideRayFrame<FN>* frames, uint32_t active) {
+    if (!sharedSigns(frames, active)) return;
+    const int first = __builtin_ctz(active);
+    for (int axis = 0; axis < 3; ++axis) {
+      nearRow[axis] = frames[first].nearRow[axis];
+      farRow[axis] = frames[first].farRow[axis];
+    }
+    const int last = 31 - __builtin_clz(active);
+    groups = last / kLanes + 1;
+    for (int r = 0; r < groups * kLanes; ++r) {
+      const bool on = (active >> r) & 1;
+      for (int axis = 0; axis < 3; ++axis) {
+        org[axis][r] = on ? rays[r].org[axis] : 0.f;
+        invDir[axis][r] = on ? frames[r].inv[axis] : 0.f;
+      }
+      // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
+      tnear[r] = on ? rays[r].tnear : std::numeric_limits<float>::infinity();
+      tfar[r] = on ? rays[r].tfar : -std::numeric_limits<float>::infinity();
+    }
+    // The packet's bounds per axis: origin and 1/dir ranges (1/dir has one sign per axis here).
+    tnearLow = std::numeric_limits<float>::infinity();
+    for (uint32_t m = active; m; m &= m - 1) tnearLow = std::min(tnearLow, rays[__builtin_ctz(m)].tnear);
+    for (int axis = 0; axis < 3; ++axis) {
+      float orgLow = std::numeric_limits<float>::infinity(), orgHigh = -orgLow;
+      float invLow = orgLow, invHigh = -orgLow;
+      for (uint32_t m = active; m; m &= m - 1) {
+        const int r = __builtin_ctz(m);
+        orgLow = std::min(orgLow, org[axis][r]), orgHigh = std::max(orgHigh, org[axis][r]);
+        invLow = std::min(invLow, invDir[axis][r]), invHigh = std::max(invHigh, invDir[axis][r]);
+      }
+      const bool positive = invLow > 0.f;
+      nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
+      farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
+      invBounds[axis][0] = FN::broadcast(invLow);
+      invBounds[axis][1] = FN::broadcast(invHigh);
+    }
+    refreshTfarHigh();
+    usable = true;
+  }
+
+  // The children that some ray of the packet may enter, from one test of all of them against the
+  // packet's bounds. Every step is monotone in its operands (rounded subtraction and
+  // multiplication, min, max), so the bounds are bounds of the values each ray computes, not only
+  // of exact ones: nearLow <= every ray's entry distance and farHigh >= every ray's exit distance,
+  // and a child with nearLow > farHigh is entered by none. An unused child (NaN bounds) gets a NaN
+  // nearLow and fails, as in the per-ray test.
+  template <int N>
+  int mayEnter(const WideNode<N>& node) const {
+    static_assert(N == kLanes, "one lane per child");
+    FN nearLow = FN::broadcast(tnearLow);
+    FN farHigh = FN::broadcast(std::numeric_limits<float>::infinity());
+    for (int axis = 0; axis < 3; ++axis) {
+      const FN dn = FN::load(node.bounds[nearRow[axis]]) - nearBoundOrg[axis];
+      nearLow = max(nearLow, min(dn * invBounds[axis][0], dn * invBounds[axis][1]));
+      const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
+      farHigh = min(farHigh, max(df * invBounds[axis][0], df * invBounds[axis][1]));
+    }
+    farHigh = min(farHigh * FN::broadcast(kConservativeFarScale), FN::broadcast(tfarHigh));
+    return lessEqualMask(nearLow, farHigh);
+  }
+
+  // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
+  // child c, childEntry[c] their smallest entry distance; returns the mask of entered children.
+  template <int N>
+  int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
+    int entered = 0;
+    const int candidateChildren = mayEnter(node);
+    if (candidateChildren == 0) return 0;
+    for (int g = 0; g < groups; ++g) {
+      const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
+      if (groupRays == 0) continue;
+      const int base = g * kLanes;
+      const FN o[3] = {FN::load(org[0] + base), FN::load(org[1] + base), FN::load(org[2] + base)};
+      const FN inv[3] = {FN::load(invDir[0] + base), FN::load(invDir[1] + base), FN::load(invDir[2] + base)};
+      const FN tnearLanes = FN::load(tnear + base), tfarLanes = FN::load(tfar + base);
+      const FN farScale = FN::broadcast(kConservativeFarScale);
+      for (int candidates = candidateChildren; candidates; candidates &= candidates - 1) {
+        const int c = __builtin_ctz(unsigned(candidates));
+        FN nearT = tnearLanes;
+        FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
+        for (int axis = 0; axis < 3; ++axis) {
+          nearT = max(nearT, (FN::broadcast(node.bounds[nearRow[axis]][c]) - o[axis]) * inv[axis]);
+          farT = min(farT, (FN::broadcast(node.bounds[farRow[axis]][c]) - o[axis]) * inv[axis]);
+        }
+        farT = min(farT * farScale, tfarLanes);
+        const uint32_t in = uint32_t(lessEqualMask(nearT, farT)) & groupRays;
+        if (in == 0) continue;
+        alignas(32) float entry[kLanes];
+        nearT.store(entry);
+        float nearest = childEntry[c];
+        for (uint32_t m = in; m; m &= m - 1) nearest = std::min(nearest, entry[__builtin_ctz(m)]);
+        childEntry[c] = nearest;
+        childRays[c] |= in << base;
+        entered |= 1 << c;
+      }
+    }
+    return entered;
+  }
+
+  void refreshTfar(const Ray* rays, uint32_t changed) {
+    for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
+    refreshTfarHigh();
+  }
+
+ private:
+  void refreshTfarHigh() {
+    tfarHigh = -std::numeric_limits<float>::infinity();
+    for (int r = 0; r < groups * kLanes; ++r) tfarHigh = std::max(tfarHigh, tfar[r]);
+  }
+
+  FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
+  FN invBounds[3][2];                  // lowest and highest 1/dir
+  float tnearLow = 0.f, tfarHigh = 0.f;
+};
+
+// Packet traversal: every box decision is the single ray's (rays as SIMD lanes per child box when
+// PacketLanes is usable, else each ray with the single-ray kernel above), while the packet shares
+// the node loads, one stack and one near-to-far order (by the smallest entry distance among the
+// rays entering a child). Rays leave the packet when leafVisitor(firstBlock, blockCount, rays)
+// reports them finished (any-hit). Where no more than kPacketSoloRays rays enter an interior node,
+// soloVisitor(node, rays) traces each of them through that subtree alone (single-ray traversal,
+// which orders and culls per ray) and returns those finished: sharing the node loads no longer pays.
+constexpr int kPacketSoloRays = 4;
+
+template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
+void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, const WideRayFrame<FN>* frames,
+                        uint32_t active, LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
+  constexpr int N = FN::kWidth;
+  using Node = WideNode<N>;
+  if (bvh.empty() || active == 0) return;
+  if (Node::isLeaf(bvh.root)) {
+    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root), active);
+    return;
+  }
+  PacketLanes<FN> lanes(rays, frames, active);
+  struct Entry {
+    uint32_t child;
+    uint32_t rays;
+    float t;  // smallest entry distance of these rays
+  };
+  Entry stack[(N - 1) * 128];
+  int top = 0;
+  float tnearMin = std::numeric_limits<float>::infinity();
+  for (uint32_t m = active; m; m &= m - 1) tnearMin = std::min(tnearMin, rays[__builtin_ctz(m)].tnear);
+  // Drops the rays that finished, and those whose segment ends before every ray's entry.
+  const auto raysStillIn = [&](const Entry& e) {
+    uint32_t in = e.rays & active;
+    for (uint32_t m = in; m; m &= m - 1)
+      if (e.t > rays[__builtin_ctz(m)].tfar) in &= ~(1u << __builtin_ctz(m));
+    return in;
+  };
+  // The root starts in registers, not on the stack (see traverseWide).
+  uint32_t current = bvh.root, currentRays = raysStillIn({bvh.root, active, tnearMin});
+  alignas(32) float entry[N];
+  for (;;) {
+    while (currentRays) {
+      if (Node::isLeaf(current)) {
+        active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
+        if (active == 0) return;
+        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
+        break;
+      }
+      if (__builtin_popcount(currentRays) <= kPacketSoloRays) {
+        active &= ~soloVisitor(current, currentRays);
+        if (active == 0) return;
+        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
+        break;
+      }
+      const Node& node = bvh.nodes[current];
+      uint32_t childRays[N] = {};
+      float childEntry[N];
+      for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
+      int entered = 0;
+      if (lanes.usable) {
+        entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
+      } else {
+        for (uint32_t m = currentRays; m; m &= m - 1) {
+          const int r = __builtin_ctz(m);
+          int mask = intersectWideNode(node, frames[r], rays[r].tnear, rays[r].tfar, entry);
+          entered |= mask;
+          while (mask) {
+            const int c = __builtin_ctz(unsigned(mask));
+            mask &= mask - 1;
+            childRays[c] |= 1u << r;
+            childEntry[c] = std::min(childEntry[c], entry[c]);
+          }
+        }
+      }
+      if (entered == 0) break;
+      Entry hits[N];
+      int n = 0;
+      while (entered) {
+        const int c = __builtin_ctz(unsigned(entered));
+        entered &= entered - 1;
+        Entry h{node.child[c], childRays[c], childEntry[c]};
+        prefetchChild<FN>(bvh, h.child);
+        int k = n++;
+        while (kNearToFar && k > 0 && hits[k - 1].t > h.t) {
+          hits[k] = hits[k - 1];
+          --k;
+        }
+        hits[k] = h;
+      }
+      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
+      current = hits[0].child;
+      currentRays = hits[0].rays & active;
+    }
+    if (top == 0) return;
+    const Entry e = stack[--top];
+    current = e.child;
+    currentRays = raysStillIn(e);
+  }
+}
+
+// The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
+// the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
+// at the root; the triangle test's constants are made at the packet's first leaf.
+template <typename FN>
+struct PacketFrames {
+  WideRayFrame<FN> box[kMaxPacketSize];
+  uint32_t live = 0;
+
+  PacketFrames(const Ray* rays, uint32_t active) {
+    for (; active; active &= active - 1) {
+      const int r = __builtin_ctz(active);
+      if (rays[r].tnear > rays[r].tfar) continue;
+      live |= 1u << r;
+      box[r] = WideRayFrame<FN>(rays[r]);
+    }
+  }
+
+  // Ray r's triangle-test frame, made when first asked for.
+  const WatertightRay& triangleFrame(const Ray* rays, int r) {
+    if (!((prepared_ >> r) & 1)) {
+      watertight_[r] = WatertightRay(rays[r]);
+      prepared_ |= 1u << r;
+    }
+    return watertight_[r];
+  }
+  // Every live ray's triangle-test frame, and the rays as SIMD lanes of the triangle test when
+  // they share its axis order (else shear().usable is false).
+  const WatertightRay* triangleFrames(const Ray* rays) {
+    for (uint32_t m = live & ~prepared_; m; m &= m - 1) triangleFrame(rays, __builtin_ctz(m));
+    return watertight_.data();
+  }
+  const PacketShear<FN>& shear(const Ray* rays) {
+    if (!shear_) shear_.emplace(triangleFrames(rays), live);
+    return *shear_;
+  }
+
+ private:
+  UninitializedArray<WatertightRay, kMaxPacketSize> watertight_;
+  uint32_t prepared_ = 0;
+  std::optional<PacketShear<FN>> shear_;
+};
+
+// A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least this share of
+// a lane group reaches it together; fewer rays are tested one by one against the blocks' four
+// triangles at a time, which costs less per ray than a pass over every triangle.
+template <typename FN>
+bool leafTestsRaysAsLanes(const TriangleSet& set, uint32_t rays) {
+  return !set.fast && __builtin_popcount(rays) * 2 >= FN::kWidth;
+}
+
+template <typename FN, typename F4>
+uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
+                                        uint32_t active, const QueryState& state) {
+  PacketFrames<FN> f(rays, active);
+  uint32_t found = 0;
+  const auto closestAlone = [&](uint32_t start, int r) {
+    traverseWideFrom<FN, true>(bvh, start, f.box[r], rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     hits[r], state))
+        found |= 1u << r;
+      return false;
+    });
+  };
+  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {
+    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
+    // would be tested ray by ray, along the union of their paths): each goes alone.
+    for (uint32_t m = f.live; m; m &= m - 1) closestAlone(bvh.root, __builtin_ctz(m));
+    return found;
+  }
+  const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
+      found |= intersectBlocksClosestPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
+                                                f.triangleFrames(rays), rays, hits, mask, state);
+      return 0u;
+    }
+    for (; mask; mask &= mask - 1) {
+      const int r = __builtin_ctz(mask);
+      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     hits[r], state))
+        found |= 1u << r;
+    }
+    return 0u;
+  };
+  const auto solo = [&](uint32_t node, uint32_t mask) {
+    for (; mask; mask &= mask - 1) closestAlone(node, __builtin_ctz(mask));
+    return 0u;
+  };
+  traverseWidePacket<FN, true>(bvh, rays, f.box, f.live, leaf, solo);
+  return found;
+}
+
+template <typename FN, typename F4>
+uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
+                                    const QueryState& state) {
+  PacketFrames<FN> f(rays, active);
+  uint32_t occluded = 0;
+  const auto anyAlone = [&](uint32_t start, int r) {
+    bool found = false;
+    traverseWideFrom<FN, false>(bvh, start, f.box[r], rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
+      found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                     state);
+      return found;
+    });
+    return found;
+  };
+  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {  // as for closest hits
+    for (uint32_t m = f.live; m; m &= m - 1)
+      if (anyAlone(bvh.root, __builtin_ctz(m))) occluded |= 1u << __builtin_ctz(m);
+    return occluded;
+  }
+  const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    uint32_t finished = 0;
+    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
+      finished = intersectBlocksAnyPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
+                                              f.triangleFrames(rays), rays, mask, state);
+    } else {
+      for (; mask; mask &= mask - 1) {
+        const int r = __builtin_ctz(mask);
+        if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+                                   state))
+          finished |= 1u << r;
+      }
+    }
+    occluded |= finished;
+    return finished;
+  };
+  const auto solo = [&](uint32_t node, uint32_t mask) {
+    uint32_t finished = 0;
+    for (; mask; mask &= mask - 1)
+      if (anyAlone(node, __builtin_ctz(mask))) finished |= 1u << __builtin_ctz(mask);
+    occluded |= finished;
+    return finished;
+  };
+  traverseWidePacket<FN, false>(bvh, rays, f.box, f.live, leaf, solo);
+  return occluded;
+}
+
+}  // namespace obvh
