@@ -158,13 +158,14 @@ struct PacketLanes {
   float tnearLow = 0.f, tfarHigh = 0.f;
 };
 
-// Packet traversal: every box decision is the single ray's (rays as SIMD lanes per child box when
-// PacketLanes is usable, else each ray with the single-ray kernel above), while the packet shares
-// the node loads, one stack and one near-to-far order (by the smallest entry distance among the
-// rays entering a child). Rays leave the packet when leafVisitor(firstBlock, blockCount, rays)
-// reports them finished (any-hit). Where no more than kPacketSoloRays rays enter an interior node,
-// soloVisitor(node, rays) traces each of them through that subtree alone (single-ray traversal,
-// which orders and culls per ray) and returns those finished: sharing the node loads no longer pays.
+// Packet traversal: every box decision is the single ray's (the rays as SIMD lanes per child box,
+// PacketLanes), while the packet shares the node loads, one stack and one near-to-far order (by the
+// smallest entry distance among the rays entering a child). Rays leave the packet when
+// leafVisitor(firstBlock, blockCount, rays) reports them finished (any-hit). soloVisitor(node, rays)
+// traces each of the rays through that subtree alone (single-ray traversal, which orders and culls
+// per ray) and returns those finished: done for the whole packet when its rays do not share their
+// direction signs, and wherever no more than kPacketSoloRays rays enter an interior node, where
+// sharing the node loads no longer pays.
 constexpr int kPacketSoloRays = 4;
 
 template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
@@ -178,6 +179,12 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     return;
   }
   PacketLanes<FN> lanes(rays, frames, active);
+  if (!lanes.usable) {
+    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
+    // would be tested ray by ray, along the union of their paths): each goes alone.
+    soloVisitor(bvh.root, active);
+    return;
+  }
   struct Entry {
     uint32_t child;
     uint32_t rays;
@@ -196,41 +203,25 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   };
   // The root starts in registers, not on the stack (see traverseWide).
   uint32_t current = bvh.root, currentRays = raysStillIn({bvh.root, active, tnearMin});
-  alignas(32) float entry[N];
   for (;;) {
     while (currentRays) {
       if (Node::isLeaf(current)) {
         active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
         if (active == 0) return;
-        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
+        lanes.refreshTfar(rays, currentRays);
         break;
       }
       if (__builtin_popcount(currentRays) <= kPacketSoloRays) {
         active &= ~soloVisitor(current, currentRays);
         if (active == 0) return;
-        if (lanes.usable) lanes.refreshTfar(rays, currentRays);
+        lanes.refreshTfar(rays, currentRays);
         break;
       }
       const Node& node = bvh.nodes[current];
       uint32_t childRays[N] = {};
       float childEntry[N];
       for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
-      int entered = 0;
-      if (lanes.usable) {
-        entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
-      } else {
-        for (uint32_t m = currentRays; m; m &= m - 1) {
-          const int r = __builtin_ctz(m);
-          int mask = intersectWideNode(node, frames[r], rays[r].tnear, rays[r].tfar, entry);
-          entered |= mask;
-          while (mask) {
-            const int c = __builtin_ctz(unsigned(mask));
-            mask &= mask - 1;
-            childRays[c] |= 1u << r;
-            childEntry[c] = std::min(childEntry[c], entry[c]);
-          }
-        }
-      }
+      int entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
       if (entered == 0) break;
       Entry hits[N];
       int n = 0;
@@ -320,12 +311,6 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
       return false;
     });
   };
-  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {
-    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
-    // would be tested ray by ray, along the union of their paths): each goes alone.
-    for (uint32_t m = f.live; m; m &= m - 1) closestAlone(bvh.root, __builtin_ctz(m));
-    return found;
-  }
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
       found |= intersectBlocksClosestPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
@@ -362,11 +347,6 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     });
     return found;
   };
-  if (!PacketLanes<FN>::sharedSigns(f.box, f.live)) {  // as for closest hits
-    for (uint32_t m = f.live; m; m &= m - 1)
-      if (anyAlone(bvh.root, __builtin_ctz(m))) occluded |= 1u << __builtin_ctz(m);
-    return occluded;
-  }
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     uint32_t finished = 0;
     if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
