@@ -26,20 +26,31 @@ struct LadderOptions {
   int threads = 0;
   size_t randomRays = 1 << 20;
   RTCBuildQuality base = RTC_BUILD_QUALITY_MEDIUM, compared = RTC_BUILD_QUALITY_HIGH;
-  std::vector<std::string> obvhConfigs;  // --obvh-configs A;B: two obvh devices at the first quality instead
+  std::vector<std::string> obvhConfigs;    // --obvh-configs A;B: two obvh devices at the first quality instead
+  std::vector<std::string> obvhLibraries;  // --obvh-libraries A;B: two builds of obvh's drop-in instead
 };
+
+// "A;B" as its two parts, or an empty list when value is not exactly two parts.
+std::vector<std::string> splitPair(const std::string& value) {
+  const size_t semicolon = value.find(';');
+  if (semicolon == std::string::npos || value.find(';', semicolon + 1) != std::string::npos) return {};
+  return {value.substr(0, semicolon), value.substr(semicolon + 1)};
+}
 
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench ladder: %s\n\n", error.c_str());
   std::fprintf(stderr,
                "usage: obvh_bench ladder [--scene FILE.obj|FILE.ply]... [--rounds N] [--threads N] [--random-rays N]\n"
                "                         [--qualities low|medium|high,low|medium|high] [--obvh-configs 'A;B']\n"
+               "                         [--obvh-libraries 'A.so;B.so']\n"
                "  Builds each scene with Debian's Embree and with obvh at two qualities (default medium,high),\n"
                "  then traces the same rays through all four scenes once per round, in rotating order, and\n"
                "  prints per workload the median Mrays/s and the second quality's speed over the first's:\n"
                "  median of the per-round ratios [lowest, highest], and in how many rounds it was faster.\n"
                "  --obvh-configs: compare two obvh device configs instead (e.g. 'collapse=greedy;collapse=sah'),\n"
                "  both at the first quality, with Embree at that quality as a reference.\n"
+               "  --obvh-libraries: compare two builds of obvh's drop-in library (paths to libembree3.so.3 files,\n"
+               "  e.g. before and after a change), loaded side by side, likewise.\n"
                "  --threads: build and trace threads of every device (default: all).\n");
   std::exit(error.empty() ? 0 : 2);
 }
@@ -52,10 +63,13 @@ LadderOptions parse(int argc, char** argv) {
     else if (arg == "--threads") o.threads = int(positive(1024));
     else if (arg == "--random-rays") o.randomRays = size_t(positive(100000000));
     else if (arg == "--obvh-configs") {
-      const size_t semicolon = value.find(';');
-      if (semicolon == std::string::npos || value.find(';', semicolon + 1) != std::string::npos)
+      o.obvhConfigs = splitPair(value);
+      if (o.obvhConfigs.empty())
         usage("invalid value '" + value + "' for --obvh-configs (two device configs separated by one ';')");
-      o.obvhConfigs = {value.substr(0, semicolon), value.substr(semicolon + 1)};
+    } else if (arg == "--obvh-libraries") {
+      o.obvhLibraries = splitPair(value);
+      if (o.obvhLibraries.empty())
+        usage("invalid value '" + value + "' for --obvh-libraries (two library paths separated by one ';')");
     } else if (arg == "--qualities") {
       const size_t comma = value.find(',');
       if (comma == std::string::npos || !parseBuildQuality(value.substr(0, comma), o.base) ||
@@ -65,6 +79,7 @@ LadderOptions parse(int argc, char** argv) {
       usage("unknown option " + arg);
     }
   });
+  if (!o.obvhConfigs.empty() && !o.obvhLibraries.empty()) usage("--obvh-configs and --obvh-libraries exclude each other");
   if (o.scenes.empty()) o.scenes.push_back("/usr/share/glmark2/models/bunny.obj");
   return o;
 }
@@ -201,7 +216,18 @@ int runLadderReport(int argc, char** argv) {
     };
     const std::string base = qualityName(options.base), compared = qualityName(options.compared);
     std::vector<DeviceUnderTest> devices;
-    if (options.obvhConfigs.empty()) {
+    std::unique_ptr<RtcLibrary> builds[2];
+    if (!options.obvhLibraries.empty()) {
+      for (int k = 0; k < 2; ++k) {
+        builds[k] = RtcLibrary::open(options.obvhLibraries[k], "obvh " + options.obvhLibraries[k], error);
+        if (!builds[k]) throw std::runtime_error(error);
+      }
+      devices = {{builds[0]->label, builds[0].get(), device(*builds[0], ""), options.base},
+                 {builds[1]->label, builds[1].get(), device(*builds[1], ""), options.base},
+                 {"embree " + base, embree.get(), device(*embree, ""), options.base}};
+      std::printf("obvh_bench ladder: %s vs %s at %s", options.obvhLibraries[0].c_str(), options.obvhLibraries[1].c_str(),
+                  base.c_str());
+    } else if (options.obvhConfigs.empty()) {
       RTCDevice e = device(*embree, ""), o = device(*obvh, "");
       devices = {{"embree " + base, embree.get(), e, options.base}, {"embree " + compared, embree.get(), e, options.compared},
                  {"obvh " + base, obvh.get(), o, options.base}, {"obvh " + compared, obvh.get(), o, options.compared}};
