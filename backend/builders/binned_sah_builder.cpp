@@ -34,12 +34,18 @@ struct SseBox {
 
   void extend(simd::Float4Sse lo, simd::Float4Sse hi) { lower = min(lower, lo), upper = max(upper, hi); }
   void extend(const SseBox& b) { extend(b.lower, b.upper); }
+  // dx * dy + dy * dz + dz * dx with the scalar operations' rounding, the three products in one
+  // SSE multiplication (the SAH sweeps call this for every bin of every node; a store and scalar
+  // reload here was a fair share of the build).
   float halfArea() const {
-    alignas(16) float lo[4], hi[4];
-    lower.store(lo), upper.store(hi);
-    if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) return 0.f;
-    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-    return dx * dy + dy * dz + dz * dx;
+    const __m128 d = _mm_sub_ps(upper.v, lower.v);
+    // Empty on some axis: for finite bounds, hi - lo < 0 exactly when lo > hi.
+    if (_mm_movemask_ps(_mm_cmplt_ps(d, _mm_setzero_ps())) & 7) return 0.f;
+    const __m128 products = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));  // dx*dy, dy*dz, dz*dx
+    const float xy = _mm_cvtss_f32(products);
+    const float yz = _mm_cvtss_f32(_mm_shuffle_ps(products, products, _MM_SHUFFLE(1, 1, 1, 1)));
+    const float zx = _mm_cvtss_f32(_mm_movehl_ps(products, products));
+    return xy + yz + zx;
   }
 };
 
@@ -109,7 +115,9 @@ struct BinMapping {
   simd::Float4Sse scale;
   int binCount;
 
-  BinMapping(const Box3f& centroidBounds, int bins) : binCount(bins) {
+  simd::Float4Sse lastBin;
+
+  BinMapping(const Box3f& centroidBounds, int bins) : binCount(bins), lastBin(simd::Float4Sse::broadcast(float(bins - 1))) {
     alignas(16) float o[4] = {centroidBounds.lower.x, centroidBounds.lower.y, centroidBounds.lower.z, 0.f};
     alignas(16) float k[4] = {0.f, 0.f, 0.f, 0.f};
     const Vec3f extent = centroidBounds.upper - centroidBounds.lower;
@@ -117,10 +125,12 @@ struct BinMapping {
     origin = simd::Float4Sse::load(o);
     scale = simd::Float4Sse::load(k);
   }
-  // Bins of the box with these SSE bounds on x, y, z (out[3] is garbage).
+  // Bins of the box with these SSE bounds on x, y, z (out[3] is garbage). Clamped before the
+  // conversion, in SIMD: for the centroids of the node's own primitives (the only ones binned)
+  // the same bins as clamping the truncated integers; a NaN lands in bin 0 either way (max returns
+  // its second operand for NaN).
   void bins(simd::Float4Sse lower, simd::Float4Sse upper, int out[4]) const {
-    ((lower + upper - origin) * scale).truncate(out);
-    for (int axis = 0; axis < 3; ++axis) out[axis] = std::clamp(out[axis], 0, binCount - 1);
+    min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin).truncate(out);
   }
   int bin(const PrimRef& ref, int axis) const {
     int out[4];
