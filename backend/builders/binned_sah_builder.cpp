@@ -114,8 +114,7 @@ struct BinMapping {
   simd::Float4Sse origin;
   simd::Float4Sse scale;
   int binCount;
-
-  simd::Float4Sse lastBin;
+  simd::Float4Sse lastBin;  // binCount - 1 in every lane
 
   BinMapping(const Box3f& centroidBounds, int bins) : binCount(bins), lastBin(simd::Float4Sse::broadcast(float(bins - 1))) {
     alignas(16) float o[4] = {centroidBounds.lower.x, centroidBounds.lower.y, centroidBounds.lower.z, 0.f};
