@@ -122,11 +122,12 @@ class SahCollapser {
   }
 
   uint32_t collapse(uint32_t index) {
-    if (leafChosen_[index]) return writer_.emitLeaf(range_[index].first, range_[index].count);
+    const NodePlan& plan = plans_[index];
+    if (plan.leafChosen) return writer_.emitLeaf(plan.range.first, plan.range.count);
     uint32_t children[N];
     int count = 0;
     const uint32_t left = nodes_[index].firstChildOrPrim;
-    const int k = split_[at(index, N)];
+    const int k = plan.split[N - 1];
     gather(left, k, children, count);
     gather(left + 1, N - k, children, count);
     // Larger children first: the lane order decides between children entered at the same distance
@@ -151,6 +152,15 @@ class SahCollapser {
     uint32_t first = 0, count = 0;
     bool contiguous = true;  // the subtree's primitives are primIndices[first, first + count)
   };
+  // What the writer needs of a binary node, together: the writer visits the binary nodes in an
+  // order their storage does not follow, and one table per field cost a cache miss per field
+  // (the write of the dragon's wide tree took 75 ms with five tables).
+  struct NodePlan {
+    PrimRange range;
+    int8_t split[N];  // [j - 1]: roots from the left child in the cheapest forest of exactly j
+    int8_t roots[N];  // [i - 1]: how many roots the cheapest forest of at most i has
+    bool leafChosen = false;
+  };
 
   static size_t at(uint32_t node, int i) { return size_t(node) * N + size_t(i - 1); }
   static float blocks(uint32_t prims) { return float((prims + 3) / 4); }
@@ -159,14 +169,12 @@ class SahCollapser {
     const size_t count = nodes_.size();
     // Tables of tens of MB for the large meshes: huge pages spare the faults of 4 KiB first touches.
     reserveWithHugePages(cost_, count * N);
-    reserveWithHugePages(split_, count * N);
-    reserveWithHugePages(roots_, count * N);
-    reserveWithHugePages(range_, count);
+    reserveWithHugePages(plans_, count);
     cost_.assign(count * N, kInfinity);
-    split_.assign(count * N, 0);
-    roots_.assign(count * N, 1);
-    leafChosen_.assign(count, 0);
-    range_.assign(count, {});
+    NodePlan initial;
+    std::fill_n(initial.split, N, int8_t(0));
+    std::fill_n(initial.roots, N, int8_t(1));
+    plans_.assign(count, initial);
     // Reverse pre-order visits children before their parent, whatever order a builder stored.
     std::vector<uint32_t> preOrder;
     reserveWithHugePages(preOrder, count);
@@ -182,36 +190,37 @@ class SahCollapser {
       const size_t n = node;
       const Bvh2Node& b = nodes_[n];
       const float area = b.bounds.halfArea();
+      NodePlan& plan = plans_[n];
       if (b.isLeaf()) {
-        range_[n] = {b.firstChildOrPrim, b.primCount, true};
-        leafChosen_[n] = 1;
+        plan.range = {b.firstChildOrPrim, b.primCount, true};
+        plan.leafChosen = true;
         for (int i = 1; i <= N; ++i) cost_[at(node, i)] = area * blocks(b.primCount);
         continue;
       }
       const uint32_t left = b.firstChildOrPrim, right = left + 1;
-      const PrimRange& l = range_[left];
-      const PrimRange& r = range_[right];
-      range_[n] = {l.first, l.count + r.count, l.contiguous && r.contiguous && l.first + l.count == r.first};
+      const PrimRange& l = plans_[left].range;
+      const PrimRange& r = plans_[right].range;
+      plan.range = {l.first, l.count + r.count, l.contiguous && r.contiguous && l.first + l.count == r.first};
       // Forests of j roots, j = 2..N: k of them from the left child, j - k from the right.
       float forest[N + 1];
       for (int j = 2; j <= N; ++j) {
         forest[j] = kInfinity;
         for (int k = 1; k < j; ++k) {
           const float c = cost_[at(left, k)] + cost_[at(right, j - k)];
-          if (c < forest[j]) forest[j] = c, split_[at(node, j)] = int8_t(k);
+          if (c < forest[j]) forest[j] = c, plan.split[j - 1] = int8_t(k);
         }
       }
       const float asNode = area + forest[N];
-      const bool mergeable = range_[n].contiguous && range_[n].count <= maxLeafPrims_;
-      const float asLeaf = mergeable ? area * blocks(range_[n].count) : kInfinity;
-      leafChosen_[n] = asLeaf <= asNode;
+      const bool mergeable = plan.range.contiguous && plan.range.count <= maxLeafPrims_;
+      const float asLeaf = mergeable ? area * blocks(plan.range.count) : kInfinity;
+      plan.leafChosen = asLeaf <= asNode;
       cost_[at(node, 1)] = std::min(asLeaf, asNode);
       for (int i = 2; i <= N; ++i) {
         const float fewer = cost_[at(node, i - 1)];
         if (forest[i] < fewer) {
-          cost_[at(node, i)] = forest[i], roots_[at(node, i)] = int8_t(i);
+          cost_[at(node, i)] = forest[i], plan.roots[i - 1] = int8_t(i);
         } else {
-          cost_[at(node, i)] = fewer, roots_[at(node, i)] = roots_[at(node, i - 1)];
+          cost_[at(node, i)] = fewer, plan.roots[i - 1] = plan.roots[i - 2];
         }
       }
     }
@@ -219,12 +228,13 @@ class SahCollapser {
 
   // Appends the roots of the cheapest forest of at most `most` subtrees standing for `node`.
   void gather(uint32_t node, int most, uint32_t* roots, int& count) const {
-    const int j = roots_[at(node, most)];
+    const NodePlan& plan = plans_[node];
+    const int j = plan.roots[most - 1];
     if (j == 1 || nodes_[node].isLeaf()) {
       roots[count++] = node;
       return;
     }
-    const int k = split_[at(node, j)];
+    const int k = plan.split[j - 1];
     gather(nodes_[node].firstChildOrPrim, k, roots, count);
     gather(nodes_[node].firstChildOrPrim + 1, j - k, roots, count);
   }
@@ -232,11 +242,8 @@ class SahCollapser {
   WideWriter<N>& writer_;
   const std::vector<Bvh2Node>& nodes_;
   uint32_t maxLeafPrims_;
-  std::vector<float> cost_;       // [node][i - 1]: cheapest forest of at most i roots
-  std::vector<int8_t> split_;     // [node][j - 1]: roots from the left child in a forest of exactly j
-  std::vector<int8_t> roots_;     // [node][i - 1]: how many roots that cheapest forest has
-  std::vector<uint8_t> leafChosen_;
-  std::vector<PrimRange> range_;
+  std::vector<float> cost_;  // [node][i - 1]: cheapest forest of at most i roots (planning only)
+  std::vector<NodePlan> plans_;
 };
 
 }  // namespace
