@@ -4,7 +4,6 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
-
 #include <cmath>
 #include <cstring>
 
