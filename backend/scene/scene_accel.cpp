@@ -410,10 +410,8 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
   }
   counters = state.counters;
   bool found = false;
-  if (layout_ == AccelLayout::Bvh4)
-    found = !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
-  else if (layout_ == AccelLayout::Bvh8)
-    found = !triangleView8_.empty() && intersectClosestWide(triangleView8_, ray, hit, state);
+  if (layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8)
+    found = intersectWideTriangles(ray, hit, state);
   else if (layout_ == AccelLayout::Bvh2)
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
   else
@@ -428,10 +426,8 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCoun
     return occluded(ray, counted);
   }
   counters = state.counters;
-  if (layout_ == AccelLayout::Bvh4) {
-    if (!triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state)) return true;
-  } else if (layout_ == AccelLayout::Bvh8) {
-    if (!triangleView8_.empty() && intersectAnyWide(triangleView8_, ray, state)) return true;
+  if (layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8) {
+    if (occludedWideTriangles(ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh2) {
     if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {

@@ -49,20 +49,18 @@ class SceneAccel {
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
   // Whether the scene is one wide triangle tree and nothing else (no instances, user geometry or
-  // shapes). Its single rays may then skip intersect()'s dispatch: the two functions below, inline,
-  // call the kernels at once (state.counters must be null; no callbacks may be needed).
+  // shapes). Its single rays may then skip intersect()'s dispatch and call the two functions below,
+  // inline, which test the wide triangle tree alone (intersect() and occluded() use them too).
   bool wideTrianglesOnly() const {
     return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4) && objectBvh_.empty();
   }
   bool intersectWideTriangles(Ray& ray, Hit& hit, const QueryState& state) const {
-    if (layout_ == AccelLayout::Bvh8)
-      return !triangleView8_.empty() && triangleView8_.kernels->closest(triangleView8_, ray, hit, state);
-    return !triangleView4_.empty() && triangleView4_.kernels->closest(triangleView4_, ray, hit, state);
+    if (layout_ == AccelLayout::Bvh8) return !triangleView8_.empty() && intersectClosestWide(triangleView8_, ray, hit, state);
+    return !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
   }
   bool occludedWideTriangles(const Ray& ray, const QueryState& state) const {
-    if (layout_ == AccelLayout::Bvh8)
-      return !triangleView8_.empty() && triangleView8_.kernels->any(triangleView8_, ray, state);
-    return !triangleView4_.empty() && triangleView4_.kernels->any(triangleView4_, ray, state);
+    if (layout_ == AccelLayout::Bvh8) return !triangleView8_.empty() && intersectAnyWide(triangleView8_, ray, state);
+    return !triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state);
   }
   // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
   // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
