@@ -15,23 +15,23 @@ struct alignas(64) TriangleBlock4 {
   uint32_t geomID[4];
   uint32_t primID[4];
   uint8_t kind[4];        // TriangleKind per lane (one byte keeps the block at three cache lines)
-  uint8_t usedMask = 0;   // bit per lane holding a triangle, read by every test of the block
+  uint8_t usedMask;       // bit per lane holding a triangle, read by every test of the block
 
   int usedLanes() const { return usedMask; }
-  void setLane(int lane, const StoredTriangle& tri) {
-    const Vec3f* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
-    for (int vertex = 0; vertex < 3; ++vertex)
-      for (int axis = 0; axis < 3; ++axis) v[vertex][axis][lane] = (*corners[vertex])[axis];
-    geomID[lane] = tri.geomID;
-    primID[lane] = tri.primID;
-    kind[lane] = uint8_t(tri.kind);
-    usedMask = uint8_t(usedMask | (1u << lane));
-  }
-  // Padding lanes repeat a used lane's vertices (finite arithmetic) and are left out of usedMask.
-  void setUnusedLane(int lane, const StoredTriangle& someTriangle) {
-    setLane(lane, someTriangle);
-    geomID[lane] = kUnusedLane;
-    usedMask = uint8_t(usedMask & ~(1u << lane));
+  // Writes every field (no member starts initialized, so a table of blocks can be sized without
+  // a fill): lanes [0, count) from the triangles, 1 <= count <= 4. Padding lanes repeat the first
+  // triangle's vertices (finite arithmetic) and are left out of usedMask.
+  void fill(const StoredTriangle* triangles, int count) {
+    for (int lane = 0; lane < 4; ++lane) {
+      const StoredTriangle& tri = triangles[lane < count ? lane : 0];
+      const Vec3f* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
+      for (int vertex = 0; vertex < 3; ++vertex)
+        for (int axis = 0; axis < 3; ++axis) v[vertex][axis][lane] = (*corners[vertex])[axis];
+      geomID[lane] = lane < count ? tri.geomID : kUnusedLane;
+      primID[lane] = tri.primID;
+      kind[lane] = uint8_t(tri.kind);
+    }
+    usedMask = uint8_t((1u << count) - 1);
   }
   StoredTriangle triangle(int lane) const {
     StoredTriangle tri;

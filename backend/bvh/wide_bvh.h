@@ -8,6 +8,7 @@
 
 #include "bvh/binary_bvh.h"
 #include "bvh/triangle_block.h"
+#include "memory/default_init_allocator.h"
 
 namespace obvh {
 
@@ -31,8 +32,9 @@ using Bvh8Node = WideNode<8>;
 
 template <int N>
 struct WideBvh {
-  std::vector<WideNode<N>> nodes;  // nodes[0] is the root
-  std::vector<TriangleBlock4> blocks;
+  // Sized before they are written, by the collapse's parallel writers (no zero fill first).
+  DefaultInitVector<WideNode<N>> nodes;  // nodes[0] is the root
+  DefaultInitVector<TriangleBlock4> blocks;
   uint32_t rootChild = WideNode<N>::kEmptyChild;  // a leaf root is stored here instead of as a node
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
 };

@@ -1,3 +1,6 @@
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -10,6 +13,9 @@ namespace {
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // Writes wide nodes and leaf blocks; what becomes a node's children is the caller's choice.
+// Two ways: appending (each node before its subtree, blocks in the order leaves are written), or
+// into storage sized beforehand at positions the caller computed, which lets subtrees be written
+// in parallel.
 template <int N>
 class WideWriter {
  public:
@@ -22,6 +28,28 @@ class WideWriter {
   uint32_t emitNode(const uint32_t* children, int count, EmitChild&& emitChild) {
     const uint32_t nodeIndex = uint32_t(out_.nodes.size());
     out_.nodes.emplace_back();
+    uint32_t codes[N];
+    for (int lane = 0; lane < count; ++lane) codes[lane] = emitChild(children[lane]);
+    writeNodeAt(nodeIndex, children, count, codes);  // by index: recursion may have grown the vector
+    return nodeIndex;
+  }
+
+  // Blocks are appended in depth-first order, so a subtree's triangles stay close in memory.
+  uint32_t emitLeaf(uint32_t first, uint32_t count) {
+    const uint32_t firstBlock = uint32_t(out_.blocks.size());
+    out_.blocks.resize(out_.blocks.size() + blockCount(count));
+    return writeLeafAt(firstBlock, first, count);
+  }
+
+  void resize(size_t nodes, size_t blocks) {
+    reserveWithHugePages(out_.nodes, nodes);
+    reserveWithHugePages(out_.blocks, blocks);
+    out_.nodes.resize(nodes);
+    out_.blocks.resize(blocks);
+  }
+
+  void writeNodeAt(uint32_t nodeIndex, const uint32_t* children, int count, const uint32_t* codes) {
+    WideNode<N>& n = out_.nodes[nodeIndex];
     for (int lane = 0; lane < N; ++lane) {
       uint32_t code = WideNode<N>::kEmptyChild;
       // Unused lanes get NaN bounds: every slab comparison with NaN fails, so no ray enters them
@@ -31,35 +59,23 @@ class WideWriter {
       box.lower = box.upper = {nan, nan, nan};
       if (lane < count) {
         box = binary_.nodes[children[lane]].bounds;
-        code = emitChild(children[lane]);
+        code = codes[lane];
       }
-      WideNode<N>& n = out_.nodes[nodeIndex];  // re-fetched: recursion may have grown the vector
       for (int axis = 0; axis < 3; ++axis) {
         n.bounds[axis * 2][lane] = box.lower[axis];
         n.bounds[axis * 2 + 1][lane] = box.upper[axis];
       }
       n.child[lane] = code;
     }
-    return nodeIndex;
   }
 
-  // Blocks are appended in depth-first order, so a subtree's triangles stay close in memory.
-  uint32_t emitLeaf(uint32_t first, uint32_t count) {
-    const uint32_t firstBlock = uint32_t(out_.blocks.size());
-    const uint32_t blockCount = (count + 3) / 4;
-    for (uint32_t b = 0; b < blockCount; ++b) {
-      TriangleBlock4 block;
-      for (int lane = 0; lane < 4; ++lane) {
-        const uint32_t i = b * 4 + uint32_t(lane);
-        if (i < count)
-          block.setLane(lane, triangles_[first + i]);
-        else
-          block.setUnusedLane(lane, triangles_[first]);
-      }
-      out_.blocks.push_back(block);
-    }
-    return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount;
+  uint32_t writeLeafAt(uint32_t firstBlock, uint32_t first, uint32_t count) {
+    for (uint32_t b = 0; b < blockCount(count); ++b)
+      out_.blocks[firstBlock + b].fill(triangles_ + first + 4 * b, int(std::min<uint32_t>(4, count - 4 * b)));
+    return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount(count);
   }
+
+  static uint32_t blockCount(uint32_t prims) { return (prims + 3) / 4; }
 
   const BinaryBvh& binary() const { return binary_; }
 
@@ -118,39 +134,29 @@ class SahCollapser {
       : writer_(writer),
         nodes_(writer.binary().nodes),
         maxLeafPrims_(std::min<uint32_t>(maxLeafPrims, 4 * WideNode<N>::kMaxLeafBlocks)) {
-    plan();
+    const size_t count = nodes_.size();
+    // Tables of tens of MB for the large meshes: huge pages spare the faults of 4 KiB first touches.
+    // Every entry is written (children before parents) before it is read: no fill.
+    reserveWithHugePages(plans_, count);
+    reserveWithHugePages(sizes_, count);
+    plans_.resize(count);
+    sizes_.resize(count);
+    planSubtree(0, 0);
   }
 
-  uint32_t collapse(uint32_t index) {
-    const NodePlan& plan = plans_[index];
-    if (plan.leafChosen) return writer_.emitLeaf(plan.range.first, plan.range.count);
-    uint32_t children[N];
-    int count = 0;
-    const uint32_t left = nodes_[index].firstChildOrPrim;
-    const int k = plan.split[N - 1];
-    gather(left, k, children, count);
-    gather(left + 1, N - k, children, count);
-    // Larger children first: the lane order decides between children entered at the same distance
-    // (rays starting inside several boxes) and is the any-hit visiting order. Over the greedy
-    // collapse, rays from a point source inside diagonal-42k ran 3.7x as fast in this order and
-    // 2.3x in the binary tree's left-to-right order (README, Performance).
-    // Insertion sort, stable: at most N entries and no allocation per node (std::stable_sort
-    // allocates a buffer per call; refit commits of the dragon took up to 100 ms longer with it).
-    float area[N];
-    for (int c = 0; c < count; ++c) {
-      const uint32_t child = children[c];
-      const float a = nodes_[child].bounds.halfArea();
-      int k = c;
-      for (; k > 0 && area[k - 1] < a; --k) children[k] = children[k - 1], area[k] = area[k - 1];
-      children[k] = child, area[k] = a;
-    }
-    return writer_.emitNode(children, count, [this](uint32_t child) { return collapse(child); });
+  // Writes the whole wide tree and returns the root's code. Every binary node knows the size of the
+  // wide subtree it would root, so each subtree's place in the depth-first layout (a node before
+  // its children's subtrees, blocks in leaf order, as an appending writer lays them out) is known
+  // before it is written, and large ones are written in parallel: the same tree for any thread count.
+  uint32_t write() {
+    writer_.resize(sizes_[0].nodes, sizes_[0].blocks);
+    return writeSubtree(0, 0, 0);
   }
 
  private:
   struct PrimRange {
-    uint32_t first = 0, count = 0;
-    bool contiguous = true;  // the subtree's primitives are primIndices[first, first + count)
+    uint32_t first, count;
+    bool contiguous;  // the subtree's primitives are primIndices[first, first + count)
   };
   // What the writer needs of a binary node, together: the writer visits the binary nodes in an
   // order their storage does not follow, and one table per field cost a cache miss per field
@@ -159,71 +165,120 @@ class SahCollapser {
     PrimRange range;
     int8_t split[N];  // [j - 1]: roots from the left child in the cheapest forest of exactly j
     int8_t roots[N];  // [i - 1]: how many roots the cheapest forest of at most i has
-    bool leafChosen = false;
+    bool leafChosen;
   };
+  // The wide subtree a binary node roots when the collapse makes it a node or leaf of its own.
+  struct SubtreeSize {
+    uint32_t nodes, blocks;
+  };
+  // The top levels of the binary tree are planned, and their subtrees written, as parallel tasks.
+  static constexpr int kParallelDepth = 6;
+  static constexpr uint32_t kParallelWriteNodes = 512;
 
-  static size_t at(uint32_t node, int i) { return size_t(node) * N + size_t(i - 1); }
   static float blocks(uint32_t prims) { return float((prims + 3) / 4); }
 
-  void plan() {
-    const size_t count = nodes_.size();
-    // Tables of tens of MB for the large meshes: huge pages spare the faults of 4 KiB first touches.
-    reserveWithHugePages(cost_, count * N);
-    reserveWithHugePages(plans_, count);
-    cost_.assign(count * N, kInfinity);
-    NodePlan initial;
-    std::fill_n(initial.split, N, int8_t(0));
-    std::fill_n(initial.roots, N, int8_t(1));
-    plans_.assign(count, initial);
-    // Reverse pre-order visits children before their parent, whatever order a builder stored.
-    std::vector<uint32_t> preOrder;
-    reserveWithHugePages(preOrder, count);
-    std::vector<uint32_t> pending{0};
-    while (!pending.empty()) {
-      const uint32_t node = pending.back();
-      pending.pop_back();
-      preOrder.push_back(node);
-      if (!nodes_[node].isLeaf()) pending.push_back(nodes_[node].firstChildOrPrim), pending.push_back(nodes_[node].firstChildOrPrim + 1);
+  // What a parent's choice needs of a child: cost[i - 1] is the cheapest forest of at most i roots
+  // standing for the child's subtree. Returned up the recursion, not kept: a table of them was as
+  // large as the plans (tens of MB to fault in for the large meshes).
+  struct SubtreePlan {
+    float cost[N];
+    PrimRange range;
+  };
+
+  // Children before parents.
+  SubtreePlan planSubtree(uint32_t node, int depth) {
+    const Bvh2Node& b = nodes_[node];
+    if (b.isLeaf()) return planLeaf(node);
+    const uint32_t left = b.firstChildOrPrim;
+    SubtreePlan l, r;
+    if (depth < kParallelDepth) {
+      tbb::parallel_invoke([&] { l = planSubtree(left, depth + 1); }, [&] { r = planSubtree(left + 1, depth + 1); });
+    } else {
+      l = planSubtree(left, depth + 1);
+      r = planSubtree(left + 1, depth + 1);
     }
-    for (size_t p = preOrder.size(); p-- > 0;) {
-      const uint32_t node = preOrder[p];
-      const size_t n = node;
-      const Bvh2Node& b = nodes_[n];
-      const float area = b.bounds.halfArea();
-      NodePlan& plan = plans_[n];
-      if (b.isLeaf()) {
-        plan.range = {b.firstChildOrPrim, b.primCount, true};
-        plan.leafChosen = true;
-        for (int i = 1; i <= N; ++i) cost_[at(node, i)] = area * blocks(b.primCount);
-        continue;
-      }
-      const uint32_t left = b.firstChildOrPrim, right = left + 1;
-      const PrimRange& l = plans_[left].range;
-      const PrimRange& r = plans_[right].range;
-      plan.range = {l.first, l.count + r.count, l.contiguous && r.contiguous && l.first + l.count == r.first};
-      // Forests of j roots, j = 2..N: k of them from the left child, j - k from the right.
-      float forest[N + 1];
-      for (int j = 2; j <= N; ++j) {
-        forest[j] = kInfinity;
-        for (int k = 1; k < j; ++k) {
-          const float c = cost_[at(left, k)] + cost_[at(right, j - k)];
-          if (c < forest[j]) forest[j] = c, plan.split[j - 1] = int8_t(k);
-        }
-      }
-      const float asNode = area + forest[N];
-      const bool mergeable = plan.range.contiguous && plan.range.count <= maxLeafPrims_;
-      const float asLeaf = mergeable ? area * blocks(plan.range.count) : kInfinity;
-      plan.leafChosen = asLeaf <= asNode;
-      cost_[at(node, 1)] = std::min(asLeaf, asNode);
-      for (int i = 2; i <= N; ++i) {
-        const float fewer = cost_[at(node, i - 1)];
-        if (forest[i] < fewer) {
-          cost_[at(node, i)] = forest[i], plan.roots[i - 1] = int8_t(i);
-        } else {
-          cost_[at(node, i)] = fewer, plan.roots[i - 1] = plan.roots[i - 2];
-        }
+    return planInterior(node, l, r);
+  }
+
+  SubtreePlan planLeaf(uint32_t node) {
+    const Bvh2Node& b = nodes_[node];
+    NodePlan& plan = plans_[node];
+    std::fill_n(plan.split, N, int8_t(0));
+    std::fill_n(plan.roots, N, int8_t(1));
+    plan.range = {b.firstChildOrPrim, b.primCount, true};
+    plan.leafChosen = true;
+    sizes_[node] = {0, WideWriter<N>::blockCount(b.primCount)};
+    SubtreePlan out;
+    std::fill_n(out.cost, N, b.bounds.halfArea() * blocks(b.primCount));
+    out.range = plan.range;
+    return out;
+  }
+
+  SubtreePlan planInterior(uint32_t node, const SubtreePlan& l, const SubtreePlan& r) {
+    const float area = nodes_[node].bounds.halfArea();
+    NodePlan& plan = plans_[node];
+    std::fill_n(plan.split, N, int8_t(0));
+    std::fill_n(plan.roots, N, int8_t(1));
+    plan.range = {l.range.first, l.range.count + r.range.count,
+                  l.range.contiguous && r.range.contiguous && l.range.first + l.range.count == r.range.first};
+    // Forests of j roots, j = 2..N: k of them from the left child, j - k from the right.
+    float forest[N + 1];
+    for (int j = 2; j <= N; ++j) {
+      forest[j] = kInfinity;
+      for (int k = 1; k < j; ++k) {
+        const float c = l.cost[k - 1] + r.cost[j - k - 1];
+        if (c < forest[j]) forest[j] = c, plan.split[j - 1] = int8_t(k);
       }
     }
+    const float asNode = area + forest[N];
+    const bool mergeable = plan.range.contiguous && plan.range.count <= maxLeafPrims_;
+    const float asLeaf = mergeable ? area * blocks(plan.range.count) : kInfinity;
+    plan.leafChosen = asLeaf <= asNode;
+    SubtreePlan out;
+    out.range = plan.range;
+    out.cost[0] = std::min(asLeaf, asNode);
+    for (int i = 2; i <= N; ++i) {
+      const float fewer = out.cost[i - 2];
+      if (forest[i] < fewer) {
+        out.cost[i - 1] = forest[i], plan.roots[i - 1] = int8_t(i);
+      } else {
+        out.cost[i - 1] = fewer, plan.roots[i - 1] = plan.roots[i - 2];
+      }
+    }
+    if (plan.leafChosen) {
+      sizes_[node] = {0, WideWriter<N>::blockCount(plan.range.count)};
+      return out;
+    }
+    uint32_t children[N];
+    const int count = wideChildren(node, children);
+    SubtreeSize size{1, 0};
+    for (int c = 0; c < count; ++c) size.nodes += sizes_[children[c]].nodes, size.blocks += sizes_[children[c]].blocks;
+    sizes_[node] = size;
+    return out;
+  }
+
+  // The children of the wide node that binary node `node` becomes, larger first: the lane order
+  // decides between children entered at the same distance (rays starting inside several boxes)
+  // and is the any-hit visiting order. Over the greedy collapse, rays from a point source inside
+  // diagonal-42k ran 3.7x as fast in this order and 2.3x in the binary tree's left-to-right order
+  // (README, Performance). Insertion sort, stable: at most N entries and no allocation per node
+  // (std::stable_sort allocates a buffer per call; refit commits of the dragon took up to 100 ms
+  // longer with it).
+  int wideChildren(uint32_t node, uint32_t children[N]) const {
+    int count = 0;
+    const uint32_t left = nodes_[node].firstChildOrPrim;
+    const int k = plans_[node].split[N - 1];
+    gather(left, k, children, count);
+    gather(left + 1, N - k, children, count);
+    float area[N];
+    for (int c = 0; c < count; ++c) {
+      const uint32_t child = children[c];
+      const float a = nodes_[child].bounds.halfArea();
+      int slot = c;
+      for (; slot > 0 && area[slot - 1] < a; --slot) children[slot] = children[slot - 1], area[slot] = area[slot - 1];
+      children[slot] = child, area[slot] = a;
+    }
+    return count;
   }
 
   // Appends the roots of the cheapest forest of at most `most` subtrees standing for `node`.
@@ -239,11 +294,31 @@ class SahCollapser {
     gather(nodes_[node].firstChildOrPrim + 1, j - k, roots, count);
   }
 
+  uint32_t writeSubtree(uint32_t node, uint32_t nodeIndex, uint32_t firstBlock) {
+    const NodePlan& plan = plans_[node];
+    if (plan.leafChosen) return writer_.writeLeafAt(firstBlock, plan.range.first, plan.range.count);
+    uint32_t children[N], childNode[N], childBlock[N], codes[N];
+    const int count = wideChildren(node, children);
+    uint32_t nextNode = nodeIndex + 1, nextBlock = firstBlock;
+    for (int c = 0; c < count; ++c) {
+      childNode[c] = nextNode, childBlock[c] = nextBlock;
+      nextNode += sizes_[children[c]].nodes, nextBlock += sizes_[children[c]].blocks;
+    }
+    const auto writeChild = [&](int c) { codes[c] = writeSubtree(children[c], childNode[c], childBlock[c]); };
+    if (sizes_[node].nodes >= kParallelWriteNodes) {
+      tbb::parallel_for(0, count, writeChild);
+    } else {
+      for (int c = 0; c < count; ++c) writeChild(c);
+    }
+    writer_.writeNodeAt(nodeIndex, children, count, codes);
+    return nodeIndex;
+  }
+
   WideWriter<N>& writer_;
   const std::vector<Bvh2Node>& nodes_;
   uint32_t maxLeafPrims_;
-  std::vector<float> cost_;  // [node][i - 1]: cheapest forest of at most i roots (planning only)
-  std::vector<NodePlan> plans_;
+  DefaultInitVector<NodePlan> plans_;
+  DefaultInitVector<SubtreeSize> sizes_;
 };
 
 }  // namespace
@@ -252,13 +327,14 @@ template <int N>
 WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder, const CollapseOptions& options) {
   WideBvh<N> out;
   if (binary.empty()) return out;
-  reserveWithHugePages(out.nodes, binary.nodes.size() / (N / 2 + 1) + 1);
-  reserveWithHugePages(out.blocks, binary.primIndices.size() / 3 + 1);
   WideWriter<N> writer(binary, trianglesInLeafOrder, out);
-  if (options.method == CollapseMethod::SahOptimal)
-    out.rootChild = SahCollapser<N>(writer, options.maxLeafPrims).collapse(0);
-  else
+  if (options.method == CollapseMethod::SahOptimal) {
+    out.rootChild = SahCollapser<N>(writer, options.maxLeafPrims).write();
+  } else {
+    reserveWithHugePages(out.nodes, binary.nodes.size() / (N / 2 + 1) + 1);
+    reserveWithHugePages(out.blocks, binary.primIndices.size() / 3 + 1);
     out.rootChild = GreedyCollapser<N>(writer).collapse(0);
+  }
   return out;
 }
 

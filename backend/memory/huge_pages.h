@@ -13,8 +13,8 @@ namespace obvh {
 void adviseHugePages(void* data, size_t bytes);
 
 // v.reserve(n), with the new storage advised for huge pages before anything touches it.
-template <class T>
-void reserveWithHugePages(std::vector<T>& v, size_t n) {
+template <class T, class Allocator>
+void reserveWithHugePages(std::vector<T, Allocator>& v, size_t n) {
   if (v.capacity() >= n) return;
   v.reserve(n);
   adviseHugePages(v.data(), v.capacity() * sizeof(T));

@@ -4,6 +4,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -12,6 +13,7 @@
 #include "builders/kmeans_builder.h"
 #include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
+#include "bvh/wide_bvh.h"
 #include "scene/primitive_collection.h"
 #include "scene/scene_accel.h"
 #include "backend_mesh_desc.h"
@@ -125,6 +127,67 @@ TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
   });
   ASSERT_EQ(one.nodes.size(), two.nodes.size());
   expectSameTree(one, 0, two, 0);
+}
+
+// The SAH collapse plans and writes subtrees in parallel at positions computed beforehand: the
+// wide tree must come out byte for byte the same (node order, block order, NaN padding included).
+// The layout an appending writer gives: each node before its children's subtrees, lanes in order,
+// blocks in the order the leaves are reached; every node and block used exactly once.
+template <int N>
+void expectDepthFirstLayout(const WideBvh<N>& bvh, uint32_t code, uint32_t& nextNode, uint32_t& nextBlock) {
+  using Node = WideNode<N>;
+  if (code == Node::kEmptyChild) return;
+  if (Node::isLeaf(code)) {
+    ASSERT_EQ(Node::leafFirstBlock(code), nextBlock);
+    nextBlock += Node::leafBlockCount(code);
+    return;
+  }
+  ASSERT_EQ(code, nextNode);
+  ++nextNode;
+  for (int lane = 0; lane < N; ++lane) expectDepthFirstLayout(bvh, bvh.nodes[code].child[lane], nextNode, nextBlock);
+}
+
+template <int N>
+void expectSameWideTreeOnOneAndTwoThreads() {
+  const test::MeshData soup = bigSoup();
+  CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
+  BuildOptions options;
+  options.maxLeafSize = 16;
+  const BinaryBvh binary = buildBinnedSah(collected.refs, options);
+  std::vector<StoredTriangle> inLeafOrder;
+  for (uint32_t prim : binary.primIndices) inLeafOrder.push_back(collected.triangles[prim]);
+  CollapseOptions collapse;
+  collapse.method = CollapseMethod::SahOptimal;
+  collapse.maxLeafPrims = 16;
+  const WideBvh<N> one = withThreads(1, [&] { return collapseToWide<N>(binary, inLeafOrder.data(), collapse); });
+  const WideBvh<N> two = withThreads(2, [&] { return collapseToWide<N>(binary, inLeafOrder.data(), collapse); });
+  ASSERT_GT(one.nodes.size(), 1000u);  // large enough for the parallel planning and writing
+  ASSERT_EQ(one.rootChild, two.rootChild);
+  ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  ASSERT_EQ(one.blocks.size(), two.blocks.size());
+  uint32_t nodes = 0, blocks = 0;
+  expectDepthFirstLayout(two, two.rootChild, nodes, blocks);
+  EXPECT_EQ(nodes, two.nodes.size());
+  EXPECT_EQ(blocks, two.blocks.size());
+  // Field by field (the records' alignment padding is never written); bounds as bits, for the NaN padding lanes.
+  for (size_t i = 0; i < one.nodes.size(); ++i) {
+    ASSERT_EQ(std::memcmp(one.nodes[i].bounds, two.nodes[i].bounds, sizeof(one.nodes[i].bounds)), 0) << "node " << i;
+    ASSERT_EQ(std::memcmp(one.nodes[i].child, two.nodes[i].child, sizeof(one.nodes[i].child)), 0) << "node " << i;
+  }
+  for (size_t i = 0; i < one.blocks.size(); ++i) {
+    const TriangleBlock4& a = one.blocks[i];
+    const TriangleBlock4& b = two.blocks[i];
+    ASSERT_EQ(std::memcmp(a.v, b.v, sizeof(a.v)), 0) << "block " << i;
+    ASSERT_EQ(std::memcmp(a.geomID, b.geomID, sizeof(a.geomID)), 0) << "block " << i;
+    ASSERT_EQ(std::memcmp(a.primID, b.primID, sizeof(a.primID)), 0) << "block " << i;
+    ASSERT_EQ(std::memcmp(a.kind, b.kind, sizeof(a.kind)), 0) << "block " << i;
+    ASSERT_EQ(a.usedMask, b.usedMask) << "block " << i;
+  }
+}
+
+TEST(BuildDeterminism, WideCollapseIsTheSameOnOneAndTwoThreads) {
+  expectSameWideTreeOnOneAndTwoThreads<4>();
+  expectSameWideTreeOnOneAndTwoThreads<8>();
 }
 
 // Every layout: bit-identical answers from scenes built on one and on two threads.
