@@ -21,6 +21,9 @@ struct WideRayFrame {
   FN org[3], invDir[3];
   float inv[3];               // 1/dir per axis, as invDir holds it in every lane
   int nearRow[3], farRow[3];  // rows of WideNode::bounds holding each axis' entry and exit planes
+  // nearRow as byte offsets into WideNode::bounds; the far row's is nearByte ^ (bytes of a row).
+  // Three offsets, where six row indices were reloaded from the stack at every node.
+  uint32_t nearByte[3];
   bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
 
@@ -40,6 +43,7 @@ struct WideRayFrame {
       const int negative = ray.dir[axis] < 0.f;
       nearRow[axis] = axis * 2 + negative;
       farRow[axis] = axis * 2 + 1 - negative;
+      nearByte[axis] = uint32_t(nearRow[axis]) * uint32_t(FN::kWidth * sizeof(float));
     }
   }
 };
@@ -54,10 +58,13 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
   FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
   int inside = (1 << N) - 1;
   if (!r.anyZero) {
+    static_assert(sizeof(node.bounds[0]) == N * sizeof(float) && (N & (N - 1)) == 0);
+    const char* rows = reinterpret_cast<const char*>(node.bounds);
     for (int axis = 0; axis < 3; ++axis) {
+      const uint32_t nearByte = r.nearByte[axis], farByte = nearByte ^ uint32_t(N * sizeof(float));
       // Operand order: a NaN (NaN ray or unused lane) lands in nearT/farT and fails the final compare.
-      nearT = max(nearT, (FN::load(node.bounds[r.nearRow[axis]]) - r.org[axis]) * r.invDir[axis]);
-      farT = min(farT, (FN::load(node.bounds[r.farRow[axis]]) - r.org[axis]) * r.invDir[axis]);
+      nearT = max(nearT, (FN::load(reinterpret_cast<const float*>(rows + nearByte)) - r.org[axis]) * r.invDir[axis]);
+      farT = min(farT, (FN::load(reinterpret_cast<const float*>(rows + farByte)) - r.org[axis]) * r.invDir[axis]);
     }
   } else {
     for (int axis = 0; axis < 3; ++axis) {
