@@ -33,6 +33,7 @@ struct alignas(64) TriangleBlock4 {
     }
     usedMask = uint8_t((1u << count) - 1);
   }
+  Vec3f vertex(int k, int lane) const { return {v[k][0][lane], v[k][1][lane], v[k][2][lane]}; }
   StoredTriangle triangle(int lane) const {
     StoredTriangle tri;
     tri.v0 = {v[0][0][lane], v[0][1][lane], v[0][2][lane]};

@@ -42,9 +42,12 @@ struct TriangleHit {
 
 // Second half of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared
 // frame, no mixed signs) are known: rejects det == 0 and computes t, u, v. Split out so that SIMD
-// kernels that evaluate the edge functions of several triangles at once share it.
-inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
-                                 const Vec3f& v2, float U, float V, float W, TriangleHit& out) {
+// kernels that evaluate the edge functions of several triangles at once share it. vertex(k, axis)
+// returns a coordinate of v0, v1 or v2 as a float; the SIMD kernels read it straight from a lane
+// of their triangle block (a copied-out triangle stayed alive across this function, spilled).
+template <typename Vertex>
+[[gnu::always_inline]] inline bool resolveWatertightHitOf(const WatertightRay& wr, const Ray& ray, Vertex&& vertex,
+                                                          float U, float V, float W, TriangleHit& out) {
   const float det = U + V + W;
   if (!(det != 0.f)) return false;  // also rejects NaN
 
@@ -55,15 +58,17 @@ inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const 
   // candidate, not per test.
   const double ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
   const double dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
-  const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
-  const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
-  const double sx = ox - v0.x, sy = oy - v0.y, sz = oz - v0.z;
+  const double v0x = vertex(0, 0), v0y = vertex(0, 1), v0z = vertex(0, 2);
+  const double e1x = double(vertex(1, 0)) - v0x, e1y = double(vertex(1, 1)) - v0y, e1z = double(vertex(1, 2)) - v0z;
+  const double e2x = double(vertex(2, 0)) - v0x, e2y = double(vertex(2, 1)) - v0y, e2z = double(vertex(2, 2)) - v0z;
+  const double sx = ox - v0x, sy = oy - v0y, sz = oz - v0z;
   const double px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
   const double edgeDet = e1x * px + e1y * py + e1z * pz;
   if (edgeDet == 0.0) {
     // Only a degenerate triangle gets here; keep the sheared values rather than drop the hit.
-    const Vec3f A = v0 - wr.org, B = v1 - wr.org, C = v2 - wr.org;
-    const float Az = wr.Sz * A[wr.kz], Bz = wr.Sz * B[wr.kz], Cz = wr.Sz * C[wr.kz];
+    const float Az = wr.Sz * (vertex(0, wr.kz) - wr.org[wr.kz]);
+    const float Bz = wr.Sz * (vertex(1, wr.kz) - wr.org[wr.kz]);
+    const float Cz = wr.Sz * (vertex(2, wr.kz) - wr.org[wr.kz]);
     const float rcpDet = 1.f / det;
     const float t = (U * Az + V * Bz + W * Cz) * rcpDet;
     if (!(t > ray.tnear && t <= ray.tfar)) return false;
@@ -77,6 +82,12 @@ inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const 
   if (!(t > ray.tnear && t <= ray.tfar)) return false;
   out = {t, float((sx * px + sy * py + sz * pz) * rcpEdgeDet), float((dx * qx + dy * qy + dz * qz) * rcpEdgeDet)};
   return true;
+}
+
+inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
+                                 const Vec3f& v2, float U, float V, float W, TriangleHit& out) {
+  const Vec3f* vertices[3] = {&v0, &v1, &v2};
+  return resolveWatertightHitOf(wr, ray, [&](int k, int axis) { return (*vertices[k])[axis]; }, U, V, W, out);
 }
 
 // Returns true and fills out when the ray hits the triangle with tnear < t <= tfar.

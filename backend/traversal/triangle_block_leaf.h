@@ -130,8 +130,15 @@ template <typename F4>
   return (positive | negative) & block.usedLanes();
 }
 
-// Visits each candidate lane of the block in lane order with its triangle test result; visit
-// returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
+// A hit on lane `lane` of a block, read from the block's lanes: copying the lane out as a
+// StoredTriangle first kept it alive across the double-precision test, in spilled registers.
+inline Hit makeBlockHit(const TriangleBlock4& block, int lane, const TriangleHit& th, uint32_t instID) {
+  return makeTriangleHit(block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), block.geomID[lane],
+                         block.primID[lane], TriangleKind(block.kind[lane]), th, instID);
+}
+
+// Visits each candidate lane of the block in lane order with its triangle test result;
+// visit(lane, th) returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
 template <typename F4, typename Visit>
 [[gnu::always_inline]] inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
                            const Ray& ray, Visit&& visit) {
@@ -139,9 +146,10 @@ template <typename F4, typename Visit>
     for (int lanes = moellerBlockCandidates<F4>(block, ray); lanes; lanes &= lanes - 1) {
       const int lane = __builtin_ctz(unsigned(lanes));
       if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
-      const StoredTriangle tri = block.triangle(lane);
       TriangleHit th;
-      if (intersectMoeller(ray, tri.v0, tri.v1, tri.v2, th) && visit(tri, th)) return true;
+      if (intersectMoeller(ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th) &&
+          visit(lane, th))
+        return true;
     }
     return false;
   }
@@ -151,12 +159,13 @@ template <typename F4, typename Visit>
     const int lane = __builtin_ctz(unsigned(lanes));
     lanes &= lanes - 1;
     if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
-    const StoredTriangle tri = block.triangle(lane);
     TriangleHit th;
-    const bool hit = (c.recheck >> lane) & 1
-                         ? intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th)
-                         : resolveWatertightHit(wr, ray, tri.v0, tri.v1, tri.v2, c.U[lane], c.V[lane], c.W[lane], th);
-    if (hit && visit(tri, th)) return true;
+    const bool hit =
+        (c.recheck >> lane) & 1
+            ? intersectWatertight(wr, ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th)
+            : resolveWatertightHitOf(
+                  wr, ray, [&](int k, int axis) { return block.v[k][axis][lane]; }, c.U[lane], c.V[lane], c.W[lane], th);
+    if (hit && visit(lane, th)) return true;
   }
   return false;
 }
@@ -167,17 +176,18 @@ template <typename F4>
                                    uint32_t blockCount, const WatertightRay& wr, Ray& ray, Hit& hit,
                                    const QueryState& state) {
   bool found = false;
-  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
-    visitBlockHits<F4>(set, blocks[b], wr, ray, [&](const StoredTriangle& tri, const TriangleHit& th) {
-      const Hit candidate = makeTriangleHit(tri, th, state.instID);
-      if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
-          !state.callbacks->acceptHit(set.owner, ray, candidate, th.t, false))
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
+    const TriangleBlock4& block = blocks[b];
+    visitBlockHits<F4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
+      if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
+          !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, false))
         return false;
       ray.tfar = th.t;
-      hit = candidate;
+      hit = makeBlockHit(block, lane, th, state.instID);
       found = true;
       return false;
     });
+  }
   return found;
 }
 
@@ -185,12 +195,14 @@ template <typename F4>
 template <typename F4>
 [[gnu::always_inline]] inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                uint32_t blockCount, const WatertightRay& wr, const Ray& ray, const QueryState& state) {
-  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
-    if (visitBlockHits<F4>(set, blocks[b], wr, ray, [&](const StoredTriangle& tri, const TriangleHit& th) {
-          return !needsFilter(set.occlusionFiltered, tri.geomID, state) ||
-                 state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(tri, th, state.instID), th.t, true);
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
+    const TriangleBlock4& block = blocks[b];
+    if (visitBlockHits<F4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
+          return !needsFilter(set.occlusionFiltered, block.geomID[lane], state) ||
+                 state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, true);
         }))
       return true;
+  }
   return false;
 }
 

@@ -27,16 +27,21 @@ inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, c
                   : intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th);
 }
 
-inline Hit makeTriangleHit(const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
+inline Hit makeTriangleHit(const Vec3f& v0, const Vec3f& v1, const Vec3f& v2, uint32_t geomID, uint32_t primID,
+                           TriangleKind kind, const TriangleHit& th, uint32_t instID) {
   Hit hit;
-  hit.geomID = tri.geomID;
-  hit.primID = tri.primID;
+  hit.geomID = geomID;
+  hit.primID = primID;
   hit.instID = instID;
-  hit.Ng = embreeGeometryNormal(tri.v0, tri.v1, tri.v2);
-  const bool secondHalf = tri.kind == TriangleKind::QuadSecondHalf;
+  hit.Ng = embreeGeometryNormal(v0, v1, v2);
+  const bool secondHalf = kind == TriangleKind::QuadSecondHalf;
   hit.u = secondHalf ? 1.f - th.u : th.u;
   hit.v = secondHalf ? 1.f - th.v : th.v;
   return hit;
+}
+
+inline Hit makeTriangleHit(const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
+  return makeTriangleHit(tri.v0, tri.v1, tri.v2, tri.geomID, tri.primID, tri.kind, th, instID);
 }
 
 inline bool needsFilter(const uint8_t* filtered, uint32_t geomID, const QueryState& state) {
