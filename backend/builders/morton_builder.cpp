@@ -10,6 +10,8 @@
 #include <atomic>
 #include <cstdint>
 
+#include "memory/huge_pages.h"
+
 namespace obvh {
 namespace {
 
@@ -37,6 +39,8 @@ class MortonBuilder {
 
   void run() {
     const size_t n = keys_.size();
+    // Tens of MB for the large meshes: 4 KiB first touches took a fifth of the dragon's LOW build.
+    reserveWithHugePages(out_.nodes, 2 * n - 1);
     out_.nodes.resize(2 * n - 1);
     nodeCount_ = 1;
     build(0, 0, n);
@@ -110,7 +114,9 @@ BinaryBvh buildMorton(std::vector<PrimRef>& refs, const BuildOptions& options) {
   const Vec3f extent = centroids.upper - centroids.lower;
   Vec3f scale;
   for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.f ? 1023.99f / extent[a] : 0.f;
-  std::vector<Keyed> keys(n);
+  std::vector<Keyed> keys;
+  reserveWithHugePages(keys, n);
+  keys.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const Vec3f c = refs[i].bounds.center2() - centroids.lower;
@@ -122,9 +128,14 @@ BinaryBvh buildMorton(std::vector<PrimRef>& refs, const BuildOptions& options) {
     return a.code < b.code || (a.code == b.code && refs[a.ref].index < refs[b.ref].index);
   });
   MortonBuilder(keys, refs, options, out).run();
+  reserveWithHugePages(out.primIndices, n);
   out.primIndices.resize(n);
-  std::vector<PrimRef> sorted(n);
-  for (size_t i = 0; i < n; ++i) sorted[i] = refs[keys[i].ref], out.primIndices[i] = sorted[i].index;
+  std::vector<PrimRef> sorted;
+  reserveWithHugePages(sorted, n);
+  sorted.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) sorted[i] = refs[keys[i].ref], out.primIndices[i] = sorted[i].index;
+  });
   refs.swap(sorted);
   return out;
 }
