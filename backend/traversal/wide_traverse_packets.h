@@ -110,8 +110,10 @@ struct PacketLanes {
   }
 
   // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
-  // child c, childEntry[c] their smallest entry distance; returns the mask of entered children.
-  template <int N>
+  // child c, childEntry[c] their smallest entry distance (when kOrdered: any-hit queries neither
+  // order children nor cull them by distance, their rays' tfar never shrinks); returns the mask of
+  // entered children.
+  template <bool kOrdered, int N>
   int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
     int entered = 0;
     const int candidateChildren = mayEnter(node);
@@ -135,11 +137,13 @@ struct PacketLanes {
         farT = min(farT * farScale, tfarLanes);
         const uint32_t in = uint32_t(lessEqualMask(nearT, farT)) & groupRays;
         if (in == 0) continue;
-        alignas(32) float entry[kLanes];
-        nearT.store(entry);
-        float nearest = childEntry[c];
-        for (uint32_t m = in; m; m &= m - 1) nearest = std::min(nearest, entry[__builtin_ctz(m)]);
-        childEntry[c] = nearest;
+        if constexpr (kOrdered) {
+          alignas(32) float entry[kLanes];
+          nearT.store(entry);
+          float nearest = childEntry[c];
+          for (uint32_t m = in; m; m &= m - 1) nearest = std::min(nearest, entry[__builtin_ctz(m)]);
+          childEntry[c] = nearest;
+        }
         childRays[c] |= in << base;
         entered |= 1 << c;
       }
@@ -199,9 +203,11 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   int top = 0;
   float tnearMin = std::numeric_limits<float>::infinity();
   for (uint32_t m = active; m; m &= m - 1) tnearMin = std::min(tnearMin, rays[__builtin_ctz(m)].tnear);
-  // Drops the rays that finished, and those whose segment ends before every ray's entry.
+  // Drops the rays that finished, and those whose segment ends before every ray's entry (only
+  // closest-hit rays' segments shrink).
   const auto raysStillIn = [&](const Entry& e) {
     uint32_t in = e.rays & active;
+    if (!kNearToFar) return in;
     for (uint32_t m = in; m; m &= m - 1)
       if (e.t > rays[__builtin_ctz(m)].tfar) in &= ~(1u << __builtin_ctz(m));
     return in;
@@ -226,7 +232,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
       uint32_t childRays[N] = {};
       float childEntry[N];
       for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
-      int entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
+      int entered = lanes.template intersectNode<kNearToFar>(node, currentRays, childRays, childEntry);
       if (entered == 0) break;
       Entry hits[N];
       int n = 0;
