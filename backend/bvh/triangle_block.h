@@ -36,9 +36,9 @@ struct alignas(64) TriangleBlock4 {
   Vec3f vertex(int k, int lane) const { return {v[k][0][lane], v[k][1][lane], v[k][2][lane]}; }
   StoredTriangle triangle(int lane) const {
     StoredTriangle tri;
-    tri.v0 = {v[0][0][lane], v[0][1][lane], v[0][2][lane]};
-    tri.v1 = {v[1][0][lane], v[1][1][lane], v[1][2][lane]};
-    tri.v2 = {v[2][0][lane], v[2][1][lane], v[2][2][lane]};
+    tri.v0 = vertex(0, lane);
+    tri.v1 = vertex(1, lane);
+    tri.v2 = vertex(2, lane);
     tri.geomID = geomID[lane];
     tri.primID = primID[lane];
     tri.kind = TriangleKind(kind[lane]);

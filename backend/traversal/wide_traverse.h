@@ -16,6 +16,15 @@
 
 namespace obvh {
 
+// Rows of WideNode::bounds holding an axis' entry and exit planes for a ray whose direction along
+// that axis is negative or not: with a positive direction the lower plane is entered first.
+inline int entryRow(int axis, bool negative) { return axis * 2 + int(negative); }
+inline int exitRow(int axis, bool negative) { return axis * 2 + 1 - int(negative); }
+
+// 1/dir that is not finite (the direction component is zero, denormal or NaN): such a ray takes the
+// min/max form of the box test (single rays) or travels alone (packets).
+inline bool reciprocalUnusable(float inv) { return !(std::fabs(inv) <= std::numeric_limits<float>::max()); }
+
 template <typename FN>
 struct WideRayFrame {
   FN org[3], invDir[3];
@@ -35,14 +44,14 @@ struct WideRayFrame {
       // origin-inside-slab test), and denormal directions overflow 1/dir; both take the min/max
       // form, which keeps their NaN rules.
       inv[axis] = 1.f / ray.dir[axis];
-      anyZero |= !(std::fabs(inv[axis]) <= std::numeric_limits<float>::max());
+      anyZero |= reciprocalUnusable(inv[axis]);
       org[axis] = FN::broadcast(ray.org[axis]);
       invDir[axis] = FN::broadcast(inv[axis]);
-      // Positive direction: the lower plane is entered first. The slab distances are then the
-      // same values the min/max form picks, without computing both.
-      const int negative = ray.dir[axis] < 0.f;
-      nearRow[axis] = axis * 2 + negative;
-      farRow[axis] = axis * 2 + 1 - negative;
+      // The slab distances of the planes entered and left first are the values the min/max form
+      // picks, without computing both.
+      const bool negative = ray.dir[axis] < 0.f;
+      nearRow[axis] = entryRow(axis, negative);
+      farRow[axis] = exitRow(axis, negative);
       nearByte[axis] = uint32_t(nearRow[axis]) * uint32_t(FN::kWidth * sizeof(float));
     }
   }

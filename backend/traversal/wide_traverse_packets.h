@@ -46,14 +46,13 @@ struct PacketLanes {
       const int r = __builtin_ctz(m);
       for (int axis = 0; axis < 3; ++axis) {
         const float inv = 1.f / rays[r].dir[axis];
-        if (!(std::fabs(inv) <= std::numeric_limits<float>::max())) return;  // the frame's anyZero
+        if (reciprocalUnusable(inv)) return;
         invDir[axis][r] = inv;
       }
     }
     for (int axis = 0; axis < 3; ++axis) {
-      const int negative = (signs >> axis) & 1;
-      nearRow[axis] = axis * 2 + negative;
-      farRow[axis] = axis * 2 + 1 - negative;
+      nearRow[axis] = entryRow(axis, (signs >> axis) & 1);
+      farRow[axis] = exitRow(axis, (signs >> axis) & 1);
     }
     const int last = 31 - __builtin_clz(active);
     groups = last / kLanes + 1;
