@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 
 namespace obvh::simd {
 
@@ -47,6 +48,14 @@ struct FloatScalar {
   friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
   friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }
   friend int equalMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x == y; }); }
+  // The smallest of the lanes whose bit is set in mask, +inf when none is; those lanes must not be
+  // NaN (the SIMD versions may then differ only in the sign of a zero).
+  friend float minOfLanes(FloatScalar a, int mask) {
+    float m = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < N; ++i)
+      if ((mask >> i) & 1) m = a.v[i] < m ? a.v[i] : m;
+    return m;
+  }
 };
 
 using Float4Scalar = FloatScalar<4>;

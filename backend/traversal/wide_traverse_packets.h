@@ -136,13 +136,7 @@ struct PacketLanes {
         farT = min(farT * farScale, tfarLanes);
         const uint32_t in = uint32_t(lessEqualMask(nearT, farT)) & groupRays;
         if (in == 0) continue;
-        if constexpr (kOrdered) {
-          alignas(32) float entry[kLanes];
-          nearT.store(entry);
-          float nearest = childEntry[c];
-          for (uint32_t m = in; m; m &= m - 1) nearest = std::min(nearest, entry[__builtin_ctz(m)]);
-          childEntry[c] = nearest;
-        }
+        if constexpr (kOrdered) childEntry[c] = std::min(childEntry[c], minOfLanes(nearT, int(in)));
         childRays[c] |= in << base;
         entered |= 1 << c;
       }

@@ -1,0 +1,68 @@
+// The SIMD vector types against their scalar reference, for the operations the kernels use
+// outside the lane-by-lane arithmetic the traversal tests already compare.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "simd/cpu_features.h"
+#include "simd/float4_sse.h"
+#include "simd/float_scalar.h"
+
+namespace obvh {
+namespace {
+
+// Each SIMD type is exercised inside one function compiled for its instruction set, so no vector
+// value crosses between code of different targets (their calling conventions differ).
+float sseMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Float4Sse::load(values), mask); }
+
+}  // namespace
+}  // namespace obvh
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#include "simd/float8_avx.h"
+namespace obvh {
+namespace {
+float avxMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Float8Avx::load(values), mask); }
+}  // namespace
+}  // namespace obvh
+#pragma GCC pop_options
+
+namespace obvh {
+namespace {
+
+// minOfLanes of every mask over random values (ties, repeats and both zeros' signs avoided: the
+// kernels only compare the result), including the empty mask (+inf).
+template <int N>
+void expectMinOfLanesMatchesReference(float (*simdMinOfLanes)(const float*, int)) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(1, 9);
+  for (int trial = 0; trial < 200; ++trial) {
+    alignas(32) float values[N];
+    for (float& v : values) v = float(pick(rng)) * (pick(rng) > 5 ? -0.5f : 0.5f);
+    const simd::FloatScalar<N> reference = simd::FloatScalar<N>::load(values);
+    for (int mask = 0; mask < (1 << N); ++mask)
+      ASSERT_EQ(simdMinOfLanes(values, mask), minOfLanes(reference, mask)) << "mask " << mask;
+  }
+}
+
+TEST(SimdLanes, MinOfLanesMatchesTheScalarReference) {
+  expectMinOfLanesMatchesReference<4>(sseMinOfLanes);
+  if (simd::cpuHasAvx2()) expectMinOfLanesMatchesReference<8>(avxMinOfLanes);
+}
+
+// The reference itself: the smallest of the lanes in the mask only, +inf for none.
+TEST(SimdLanes, MinOfLanesIgnoresLanesOutsideTheMask) {
+  alignas(16) const float values[4] = {3.f, -1.f, 2.f, -5.f};
+  const simd::Float4Scalar v = simd::Float4Scalar::load(values);
+  EXPECT_EQ(minOfLanes(v, 0b0000), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(minOfLanes(v, 0b0001), 3.f);
+  EXPECT_EQ(minOfLanes(v, 0b0101), 2.f);
+  EXPECT_EQ(minOfLanes(v, 0b0111), -1.f);
+  EXPECT_EQ(minOfLanes(v, 0b1111), -5.f);
+  EXPECT_EQ(sseMinOfLanes(values, 0b0101), 2.f);
+}
+
+}  // namespace
+}  // namespace obvh
