@@ -144,6 +144,16 @@ struct PacketLanes {
     return entered;
   }
 
+  // The rays among `rays` whose segment ends before t (their tfar as last refreshed).
+  uint32_t raysEndingBefore(float t, uint32_t rays) const {
+    uint32_t ending = 0;
+    const FN at = FN::broadcast(t);
+    for (int g = 0; g < groups; ++g)
+      if ((rays >> (g * kLanes)) & ((1u << kLanes) - 1))
+        ending |= uint32_t(lessMask(FN::load(tfar + g * kLanes), at)) << (g * kLanes);
+    return ending & rays;
+  }
+
   void refreshTfar(const Ray* rays, uint32_t changed) {
     for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
     refreshTfarHigh();
@@ -199,11 +209,8 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   // Drops the rays that finished, and those whose segment ends before every ray's entry (only
   // closest-hit rays' segments shrink).
   const auto raysStillIn = [&](const Entry& e) {
-    uint32_t in = e.rays & active;
-    if (!kNearToFar) return in;
-    for (uint32_t m = in; m; m &= m - 1)
-      if (e.t > rays[__builtin_ctz(m)].tfar) in &= ~(1u << __builtin_ctz(m));
-    return in;
+    const uint32_t in = e.rays & active;
+    return kNearToFar ? in & ~lanes.raysEndingBefore(e.t, in) : in;
   };
   // The root starts in registers, not on the stack (see traverseWide).
   uint32_t current = bvh.root, currentRays = raysStillIn({bvh.root, active, tnearMin});
