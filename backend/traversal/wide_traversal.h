@@ -3,6 +3,9 @@
 // Every kernel also exists as a scalar reference; a CPU check picks the best one at run time.
 #pragma once
 
+#include <algorithm>
+#include <limits>
+
 #include "bvh/wide_bvh.h"
 #include "traversal/triangle_leaf.h"
 
@@ -18,6 +21,7 @@ struct TriangleWideView {
   uint32_t root = WideNode<N>::kEmptyChild;
   TriangleSet set;
   const WideKernels<N>* kernels = nullptr;  // the CPU's best, chosen once per view, not per query
+  float extent = 0.f;  // the largest side of the root node's box (packets judge their rays' spread by it)
   bool empty() const { return root == WideNode<N>::kEmptyChild; }
 };
 
@@ -58,7 +62,20 @@ const WideKernels<N>& wideKernels(KernelIsa isa) {
 
 template <int N>
 TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set) {
-  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N))};
+  float extent = 0.f;
+  if (!bvh.empty() && !WideNode<N>::isLeaf(bvh.rootChild)) {
+    const WideNode<N>& root = bvh.nodes[bvh.rootChild];
+    for (int axis = 0; axis < 3; ++axis) {
+      float lower = std::numeric_limits<float>::infinity(), upper = -lower;
+      for (int lane = 0; lane < N; ++lane) {
+        if (root.child[lane] == WideNode<N>::kEmptyChild) continue;
+        lower = std::min(lower, root.bounds[axis * 2][lane]);
+        upper = std::max(upper, root.bounds[axis * 2 + 1][lane]);
+      }
+      extent = std::max(extent, upper - lower);
+    }
+  }
+  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N)), extent};
 }
 
 // Both count into state.counters when it is set. Without an isa, the view's kernels run.

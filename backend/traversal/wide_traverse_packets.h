@@ -77,6 +77,7 @@ struct PacketLanes {
         orgLow = std::min(orgLow, org[axis][r]), orgHigh = std::max(orgHigh, org[axis][r]);
         invLow = std::min(invLow, invDir[axis][r]), invHigh = std::max(invHigh, invDir[axis][r]);
       }
+      originSpread = std::max(originSpread, orgHigh - orgLow);
       const bool positive = invLow > 0.f;
       nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
       farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
@@ -165,6 +166,11 @@ struct PacketLanes {
     for (int r = 0; r < groups * kLanes; ++r) tfarHigh = std::max(tfarHigh, tfar[r]);
   }
 
+
+ public:
+  float originSpread = 0.f;  // the largest side of the box around the rays' origins
+
+ private:
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
   FN invBounds[3][2];                  // lowest and highest 1/dir
   float tnearLow = 0.f, tfarHigh = 0.f;
@@ -176,10 +182,15 @@ struct PacketLanes {
 // leafVisitor(firstBlock, blockCount, rays) reports them finished (any-hit). soloVisitor(node, rays)
 // traces each of the rays through that subtree alone (single-ray traversal, which orders and culls
 // per ray) and returns those finished: done for the whole packet when its rays do not share their
-// direction signs, and wherever no more than kPacketSoloRays rays enter an interior node, where
-// sharing the node loads no longer pays. One: since the packet's node test and pops went SIMD over
-// the rays, going alone at two or four rays traced 2-7% slower on coherent packets (paired probe).
-constexpr int kPacketSoloRays = 1;
+// direction signs, and wherever no more rays than the packet's solo threshold enter an interior
+// node, where sharing the node loads no longer pays. Packets whose origins lie close together
+// (camera rays, shadow rays from neighbouring hits) share nodes down to two rays: going alone at
+// two or four traced 2-7% slower on them since the packet's node test and pops went SIMD over the
+// rays. Packets whose origins spread over more than an eighth of the scene share little below the
+// top levels: they go alone at four rays (at one, incoherent shadow packets traced 8% slower).
+constexpr int kPacketSoloRaysClose = 1;
+constexpr int kPacketSoloRaysSpread = 4;
+constexpr float kPacketSpreadFraction = 0.125f;
 
 template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
 void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
@@ -198,6 +209,8 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     soloVisitor(bvh.root, active);
     return;
   }
+  const int soloRays =
+      lanes.originSpread > bvh.extent * kPacketSpreadFraction ? kPacketSoloRaysSpread : kPacketSoloRaysClose;
   struct Entry {
     uint32_t child;
     uint32_t rays;
@@ -223,7 +236,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
         lanes.refreshTfar(rays, currentRays);
         break;
       }
-      if (__builtin_popcount(currentRays) <= kPacketSoloRays) {
+      if (__builtin_popcount(currentRays) <= soloRays) {
         active &= ~soloVisitor(current, currentRays);
         if (active == 0) return;
         lanes.refreshTfar(rays, currentRays);
