@@ -5,14 +5,6 @@
 namespace obvh {
 namespace {
 
-template <int N>
-Box3f childBox(const WideNode<N>& node, int lane) {
-  Box3f box;
-  box.lower = {node.bounds[0][lane], node.bounds[2][lane], node.bounds[4][lane]};
-  box.upper = {node.bounds[1][lane], node.bounds[3][lane], node.bounds[5][lane]};
-  return box;
-}
-
 // Sum over the subtree below child code `child` whose box is `box`, in units of area.
 template <int N>
 double areaWeightedCost(const WideBvh<N>& bvh, uint32_t child, const Box3f& box) {
@@ -20,7 +12,7 @@ double areaWeightedCost(const WideBvh<N>& bvh, uint32_t child, const Box3f& box)
   const WideNode<N>& node = bvh.nodes[child];
   double cost = box.halfArea();
   for (int lane = 0; lane < N; ++lane)
-    if (node.child[lane] != WideNode<N>::kEmptyChild) cost += areaWeightedCost(bvh, node.child[lane], childBox(node, lane));
+    if (node.child[lane] != WideNode<N>::kEmptyChild) cost += areaWeightedCost(bvh, node.child[lane], node.childBox(lane));
   return cost;
 }
 
@@ -36,14 +28,11 @@ double areaWeightedCost(const BinaryBvh& bvh, uint32_t index) {
 template <int N>
 double statisticsSah(const WideBvh<N>& bvh) {
   if (bvh.empty()) return 0.0;
-  Box3f root;
   if (WideNode<N>::isLeaf(bvh.rootChild)) {
     // A single leaf: its own box is the root's, so it counts its blocks.
     return double(WideNode<N>::leafBlockCount(bvh.rootChild));
   }
-  const WideNode<N>& top = bvh.nodes[bvh.rootChild];
-  for (int lane = 0; lane < N; ++lane)
-    if (top.child[lane] != WideNode<N>::kEmptyChild) root.extend(childBox(top, lane));
+  const Box3f root = bvh.rootNodeBox();
   const double area = root.halfArea();
   return area > 0.0 ? areaWeightedCost(bvh, bvh.rootChild, root) / area : 0.0;
 }

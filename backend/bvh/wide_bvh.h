@@ -25,6 +25,12 @@ struct alignas(64) WideNode {  // cache-line aligned: a node's boxes load in as 
   static bool isLeaf(uint32_t c) { return (c & kLeafFlag) != 0; }
   static uint32_t leafFirstBlock(uint32_t c) { return (c & ~kLeafFlag) >> 4; }
   static uint32_t leafBlockCount(uint32_t c) { return c & 15u; }
+  Box3f childBox(int lane) const {
+    Box3f box;
+    box.lower = {bounds[0][lane], bounds[2][lane], bounds[4][lane]};
+    box.upper = {bounds[1][lane], bounds[3][lane], bounds[5][lane]};
+    return box;
+  }
 };
 
 using Bvh4Node = WideNode<4>;
@@ -37,6 +43,15 @@ struct WideBvh {
   DefaultInitVector<TriangleBlock4> blocks;
   uint32_t rootChild = WideNode<N>::kEmptyChild;  // a leaf root is stored here instead of as a node
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
+  // The union of the root node's child boxes; an empty box when the root is a leaf (or nothing).
+  Box3f rootNodeBox() const {
+    Box3f box;
+    if (empty() || WideNode<N>::isLeaf(rootChild)) return box;
+    const WideNode<N>& top = nodes[rootChild];
+    for (int lane = 0; lane < N; ++lane)
+      if (top.child[lane] != WideNode<N>::kEmptyChild) box.extend(top.childBox(lane));
+    return box;
+  }
 };
 
 // How the binary tree becomes wide: Greedy fills each node by opening the child of largest

@@ -3,9 +3,6 @@
 // Every kernel also exists as a scalar reference; a CPU check picks the best one at run time.
 #pragma once
 
-#include <algorithm>
-#include <limits>
-
 #include "bvh/wide_bvh.h"
 #include "traversal/triangle_leaf.h"
 
@@ -62,19 +59,8 @@ const WideKernels<N>& wideKernels(KernelIsa isa) {
 
 template <int N>
 TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set) {
-  float extent = 0.f;
-  if (!bvh.empty() && !WideNode<N>::isLeaf(bvh.rootChild)) {
-    const WideNode<N>& root = bvh.nodes[bvh.rootChild];
-    for (int axis = 0; axis < 3; ++axis) {
-      float lower = std::numeric_limits<float>::infinity(), upper = -lower;
-      for (int lane = 0; lane < N; ++lane) {
-        if (root.child[lane] == WideNode<N>::kEmptyChild) continue;
-        lower = std::min(lower, root.bounds[axis * 2][lane]);
-        upper = std::max(upper, root.bounds[axis * 2 + 1][lane]);
-      }
-      extent = std::max(extent, upper - lower);
-    }
-  }
+  const Box3f root = bvh.rootNodeBox();
+  const float extent = root.empty() ? 0.f : (root.upper - root.lower)[root.largestAxis()];
   return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N)), extent};
 }
 

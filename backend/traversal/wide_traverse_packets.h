@@ -29,6 +29,7 @@ struct PacketLanes {
   int nearRow[3] = {}, farRow[3] = {};
   int groups = 0;
   bool usable = false;
+  float originSpread = 0.f;  // the largest side of the box around the rays' origins
 
   // Usable when the rays of active all move along every axis, with the same direction signs. 1/dir,
   // the signs and the zero-direction test are the single-ray frame's (WideRayFrame) operations, made
@@ -166,11 +167,6 @@ struct PacketLanes {
     for (int r = 0; r < groups * kLanes; ++r) tfarHigh = std::max(tfarHigh, tfar[r]);
   }
 
-
- public:
-  float originSpread = 0.f;  // the largest side of the box around the rays' origins
-
- private:
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
   FN invBounds[3][2];                  // lowest and highest 1/dir
   float tnearLow = 0.f, tfarHigh = 0.f;
