@@ -91,6 +91,10 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown obb_split '" + value + "' (available: sah, median, midpoint, aabb)");
     } else if (name == "obb_bins") {
       config.obbBins = parseInt(name, value, 2, 1024);
+    } else if (name == "obb_width") {
+      if (value == "2") config.obbWidth = 2;
+      else if (value == "4") config.obbWidth = 4;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid obb_width '" + value + "' (2 or 4)");
     } else if (name == "obb_clusters") {
       config.obbClusters = parseInt(name, value, 0, 1 << 20);
     } else if (name == "obb_cost") {

@@ -21,6 +21,7 @@ struct DeviceConfig {
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
   int obbClusters = 0;
+  int obbWidth = 4;  // obb_width=2|4: the oriented layouts traced as the binary tree or four-wide
   float obbTestCost = 2.f;
   float traversalCost = 1.f;     // SAH cost of a node visit (traversal_cost)
   float intersectionCost = 1.f;  // SAH cost of a primitive test (intersection_cost)

@@ -95,9 +95,11 @@ void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOp
   const bool sahDecidesLeaves = options.builder == TreeBuilder::Distance ||
                                 (options.builder == TreeBuilder::Sah && options.quality != BuildQuality::Low);
   if (options.maxLeafSize <= 0) triangleOptions.maxLeafSize = defaultMaxLeafSize(layout_, sahDecidesLeaves);
-  if (wide) {
+  if (wide || (oriented && options.obbWidth == 4)) {
     // A wide leaf's block count has 4 bits.
     triangleOptions.maxLeafSize = std::min<int>(triangleOptions.maxLeafSize, 4 * Bvh4Node::kMaxLeafBlocks);
+  }
+  if (wide) {
     triangleOptions.leafBlockSize = 4;
     // The builders weigh leaf against split on the binary tree, whose interior nodes the collapse
     // merges: one wide node stands for about log2(width) binary levels, so a binary node costs
@@ -219,9 +221,17 @@ void SceneAccel::makeTriangleViews() {
   triangleView8_ = {};
   triangleBvh8_ = {};
   triangleOrientedView_ = TriangleOrientedView{};
+  triangleOrientedWide_ = {};
+  triangleOrientedWideView_ = {};
   if (triangleBvh_.empty()) return;
   triangleView_ = {triangleBvh_.nodes.data(), set};
-  if (!triangleOriented_.nodes.empty()) triangleOrientedView_ = {&triangleOriented_, set};
+  if (!triangleOriented_.nodes.empty()) {
+    triangleOrientedView_ = {&triangleOriented_, set};
+    if (options_.obbWidth == 4) {
+      triangleOrientedWide_ = collapseOrientedToWide(triangleOriented_, triangles_.data());
+      triangleOrientedWideView_ = {&triangleOrientedWide_, set};
+    }
+  }
   CollapseOptions collapse;
   // The SAH-optimal collapse is the default: it costs no build time and traced faster on the
   // meshes and stacks, except the stacks' shadow rays (README, Performance).
@@ -236,14 +246,15 @@ void SceneAccel::makeTriangleViews() {
   }
 }
 
-// The hybrid's whole-tree choice. Oriented boxes are traced in a binary tree, the wide AABB
-// layouts test eight (or four) boxes per SIMD step: per unit of the binary trees' SAH cost the
-// wide AABB layout (SAH-optimal collapse) traced 5.6-7.4x faster than the oriented tree on the
-// five stack presets up to 42k triangles (README, layout study), so the hybrid keeps the oriented
-// tree only where it cuts the SAH cost at least kWideAabbAdvantage-fold, the middle of that range:
-// long slanted lines yes, axis-aligned stacks and small mixed ones no.
+// The hybrid's whole-tree choice. Both layouts trace wide nodes, but an oriented child costs a
+// transform of the ray into its frame: per unit of the binary trees' SAH cost the eight-wide AABB
+// layout traced 2.5-3.5x faster than the four-wide oriented one on the five stack presets up to
+// 42k triangles (README, layout study), so the hybrid keeps the oriented tree only where it cuts
+// the SAH cost at least kWideAabbAdvantage-fold, the middle of that range: slanted lines yes,
+// axis-aligned stacks and the real meshes no. (Against the binary oriented tree, obb_width=2, the
+// wide AABB layout was 5.6-7.4x faster a unit.)
 bool SceneAccel::orientedBoxesPayOff() const {
-  constexpr double kWideAabbAdvantage = 6.5;
+  const double kWideAabbAdvantage = options_.obbWidth == 4 ? 3.0 : 6.5;
   if (options_.maxLeafSize > int(4 * Bvh4Node::kMaxLeafBlocks)) return true;  // no wide layout can hold the leaves
   return measureLayout(triangleOriented_, options_).sahCost * kWideAabbAdvantage <
          measureLayout(triangleBvh_, options_).sahCost;
@@ -271,7 +282,7 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
-         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
+         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters && a.obbWidth == b.obbWidth &&
          a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&
          a.traversalCost == b.traversalCost &&
          a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
@@ -414,6 +425,8 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
     found = intersectWideTriangles(ray, hit, state);
   else if (layout_ == AccelLayout::Bvh2)
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
+  else if (!triangleOrientedWideView_.empty())
+    found = intersectClosestOrientedWide(triangleOrientedWideView_, ray, hit, state, counters);
   else
     found = !triangleOrientedView_.empty() && intersectClosestOriented(triangleOrientedView_, ray, hit, state, counters);
   return intersectObjects(ray, hit, state) || found;
@@ -430,6 +443,8 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCoun
     if (occludedWideTriangles(ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh2) {
     if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
+  } else if (!triangleOrientedWideView_.empty()) {
+    if (intersectAnyOrientedWide(triangleOrientedWideView_, ray, state, counters)) return true;
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
     return true;
   }
@@ -532,7 +547,9 @@ SceneStats SceneAccel::stats() const {
                   objects_.size() * sizeof(ObjectRef) + instances_.size() * sizeof(Instance) +
                   shapes_.size() * sizeof(ShapePrimitive) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +
-                  triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame);
+                  triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame) +
+                  triangleOrientedWide_.nodes.size() * sizeof(OrientedWideNode) +
+                  triangleOrientedWide_.blocks.size() * sizeof(TriangleBlock4);
   for (const auto* blocks : {&triangleBvh4_.blocks, &triangleBvh8_.blocks}) {
     s.leafBlockCount += blocks->size();
     for (const TriangleBlock4& block : *blocks) s.usedBlockLanes += size_t(__builtin_popcount(block.usedLanes()));

@@ -12,9 +12,11 @@
 #include "scene/scene_desc.h"
 #include "bvh/wide_bvh.h"
 #include "bvh/oriented_bvh.h"
+#include "bvh/oriented_wide_bvh.h"
 #include "traversal/bvh2_traversal.h"
 #include "traversal/wide_traversal.h"
 #include "traversal/oriented_traversal.h"
+#include "traversal/oriented_wide_traversal.h"
 #include "traversal/traversal_counters.h"
 #include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
@@ -120,6 +122,8 @@ class SceneAccel {
   TriangleWideView<8> triangleView8_;
   OrientedBvh triangleOriented_;
   TriangleOrientedView triangleOrientedView_;
+  OrientedWideBvh triangleOrientedWide_;  // when options_.obbWidth == 4
+  TriangleOrientedWideView triangleOrientedWideView_;
   BuildOptions options_;
   BuildOptions requested_;  // as passed to build(), for refit's same-options check
   std::vector<StoredTriangle> triangles_;

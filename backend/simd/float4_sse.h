@@ -20,8 +20,14 @@ struct Float4Sse {
   friend Float4Sse operator+(Float4Sse a, Float4Sse b) { return {_mm_add_ps(a.v, b.v)}; }
   friend Float4Sse operator-(Float4Sse a, Float4Sse b) { return {_mm_sub_ps(a.v, b.v)}; }
   friend Float4Sse operator*(Float4Sse a, Float4Sse b) { return {_mm_mul_ps(a.v, b.v)}; }
+  friend Float4Sse operator/(Float4Sse a, Float4Sse b) { return {_mm_div_ps(a.v, b.v)}; }
   friend Float4Sse min(Float4Sse a, Float4Sse b) { return {_mm_min_ps(a.v, b.v)}; }
   friend Float4Sse max(Float4Sse a, Float4Sse b) { return {_mm_max_ps(a.v, b.v)}; }
+  // See FloatScalar::replaceNaN.
+  friend Float4Sse replaceNaN(Float4Sse a, Float4Sse b) {
+    const __m128 nan = _mm_cmpunord_ps(a.v, a.v);
+    return {_mm_or_ps(_mm_andnot_ps(nan, a.v), _mm_and_ps(nan, b.v))};
+  }
   friend int lessEqualMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v)); }
   friend int lessMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)); }
   friend int equalMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v)); }

@@ -41,9 +41,14 @@ struct FloatScalar {
   friend FloatScalar operator+(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x + y; }); }
   friend FloatScalar operator-(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x - y; }); }
   friend FloatScalar operator*(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x * y; }); }
+  friend FloatScalar operator/(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x / y; }); }
   // minps/maxps return the second operand when either is NaN.
   friend FloatScalar min(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x < y ? x : y; }); }
   friend FloatScalar max(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x > y ? x : y; }); }
+  // a, with its NaN lanes replaced by replacement's.
+  friend FloatScalar replaceNaN(FloatScalar a, FloatScalar b) {
+    return map(a, b, [](float x, float y) { return x != x ? y : x; });
+  }
   // Bit i set when the comparison holds in lane i (false for NaN, like the ordered SSE compares).
   friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
   friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }

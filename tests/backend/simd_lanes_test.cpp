@@ -64,5 +64,23 @@ TEST(SimdLanes, MinOfLanesIgnoresLanesOutsideTheMask) {
   EXPECT_EQ(sseMinOfLanes(values, 0b0101), 2.f);
 }
 
+// replaceNaN and division (the oriented wide node test's zero-direction rule), lane by lane.
+TEST(SimdLanes, ReplaceNaNAndDivisionMatchTheScalarReference) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  alignas(16) const float numerators[4] = {0.f, -2.f, nan, 3.f};
+  alignas(16) const float denominators[4] = {0.f, -0.f, 1.f, inf};
+  alignas(16) const float replacements[4] = {7.f, -inf, 8.f, 9.f};
+  alignas(16) float sse[4], reference[4];
+  replaceNaN(simd::Float4Sse::load(numerators) / simd::Float4Sse::load(denominators),
+             simd::Float4Sse::load(replacements)).store(sse);
+  replaceNaN(simd::Float4Scalar::load(numerators) / simd::Float4Scalar::load(denominators),
+             simd::Float4Scalar::load(replacements)).store(reference);
+  const float expected[4] = {7.f, inf, 8.f, 0.f};  // 0/0 and NaN/1 replaced; -2/-0 = +inf; 3/inf = 0
+  for (int lane = 0; lane < 4; ++lane) {
+    EXPECT_EQ(sse[lane], expected[lane]) << "lane " << lane;
+    EXPECT_EQ(reference[lane], expected[lane]) << "lane " << lane;
+  }
+}
+
 }  // namespace
 }  // namespace obvh

@@ -4,8 +4,9 @@ namespace obvh::tools {
 namespace {
 
 LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout, ObbSplit split = ObbSplit::AabbSah,
-                  int clusters = 0) {
+                  int clusters = 0, int obbWidth = 4) {
   LayoutConfig c{name, deviceConfig, BuildOptions{}};
+  c.options.obbWidth = obbWidth;
   c.options.layout = layout;
   c.options.maxLeafSize = 0;  // as a device would: the layout's default
   c.options.obbSplit = split;
@@ -20,10 +21,12 @@ const std::vector<LayoutConfig>& layoutConfigs() {
       make("aabb", "accel=bvh2", AccelLayout::Bvh2),
       make("aabb-bvh8", "accel=bvh8", AccelLayout::Bvh8),
       make("obb", "accel=obb", AccelLayout::Obb),  // the axis-aligned SAH tree traced with oriented boxes
+      make("obb-binary", "accel=obb,obb_width=2", AccelLayout::Obb, ObbSplit::AabbSah, 0, 2),
       make("obb-midpoint", "accel=obb,obb_split=midpoint", AccelLayout::Obb, ObbSplit::Midpoint),
       make("obb-median", "accel=obb,obb_split=median", AccelLayout::Obb, ObbSplit::Median),
       make("obb-sah", "accel=obb,obb_split=sah", AccelLayout::Obb, ObbSplit::Sah),
       make("hybrid", "accel=hybrid", AccelLayout::Hybrid),
+      make("hybrid-binary", "accel=hybrid,obb_width=2", AccelLayout::Hybrid, ObbSplit::AabbSah, 0, 2),
       make("hybrid-sah", "accel=hybrid,obb_split=sah", AccelLayout::Hybrid, ObbSplit::Sah),
       make("obb-k1000", "accel=obb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::AabbSah, 1000),
       make("hybrid-k1000", "accel=hybrid,obb_clusters=1000", AccelLayout::Hybrid, ObbSplit::AabbSah, 1000),
