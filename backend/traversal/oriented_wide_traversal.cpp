@@ -31,7 +31,7 @@ struct OrientedWideRay {
 // distance 0 * inf = NaN, replaced by the value that leaves the slab unbounded on that side
 // (-1/dir for the lower plane, 1/dir for the upper), so the ray counts as inside, as in the
 // scalar box test.
-int enterChildren(const OrientedWideNode& node, const OrientedWideRay& r, float tnear, float tfar, float entry[4]) {
+[[gnu::always_inline]] inline int enterChildren(const OrientedWideNode& node, const OrientedWideRay& r, float tnear, float tfar, float entry[4]) {
   const F margin = F::load(node.oriented) * F::broadcast(2.f * kObbMarginScale) * (r.originNorm + F::load(node.magnitude));
   F nearT = F::broadcast(tnear), farT = F::broadcast(std::numeric_limits<float>::infinity());
   for (int row = 0; row < 3; ++row) {
