@@ -94,7 +94,9 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
     } else if (name == "obb_width") {
       if (value == "2") config.obbWidth = 2;
       else if (value == "4") config.obbWidth = 4;
-      else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid obb_width '" + value + "' (2 or 4)");
+      else if (value == "8" && fastestOrientedWidth() == 8) config.obbWidth = 8;
+      else if (value == "8") fail(RTC_ERROR_INVALID_ARGUMENT, "obb_width=8 needs a CPU with AVX2");
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid obb_width '" + value + "' (2, 4 or 8)");
     } else if (name == "obb_clusters") {
       config.obbClusters = parseInt(name, value, 0, 1 << 20);
     } else if (name == "obb_cost") {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "builders/build_options.h"
+#include "traversal/oriented_wide_traversal.h"
 
 namespace obvh::api {
 
@@ -21,7 +22,7 @@ struct DeviceConfig {
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
   int obbClusters = 0;
-  int obbWidth = 4;  // obb_width=2|4: the oriented layouts traced as the binary tree or four-wide
+  int obbWidth = fastestOrientedWidth();  // obb_width=2|4|8: the oriented layouts traced binary, four- or eight-wide
   float obbTestCost = 2.f;
   float traversalCost = 1.f;     // SAH cost of a node visit (traversal_cost)
   float intersectionCost = 1.f;  // SAH cost of a primitive test (intersection_cost)

@@ -57,7 +57,7 @@ struct BuildOptions {
   int obbBins = 32;
   float obbTestCost = 2.0f;       // cost of one oriented-box test relative to traversalCost (one AABB test)
   int obbClusters = 0;            // k-means clusters of leaf box frames; 0 = every leaf keeps its own
-  int obbWidth = 4;               // children a node when traced: 2 (the binary tree) or 4 (oriented_wide_bvh.h)
+  int obbWidth = 4;               // children a node when traced: 2 (the binary tree), 4 or 8 (oriented_wide_bvh.h; 8 needs AVX2)
 };
 
 }  // namespace obvh

@@ -10,9 +10,10 @@ float halfAreaOf(const OrientedNode& node) {
   return d.x * d.y + d.y * d.z + d.z * d.x;
 }
 
+template <int N>
 class OrientedCollapse {
  public:
-  OrientedCollapse(const OrientedBvh& tree, const StoredTriangle* triangles, OrientedWideBvh& out)
+  OrientedCollapse(const OrientedBvh& tree, const StoredTriangle* triangles, OrientedWideBvh<N>& out)
       : tree_(tree), triangles_(triangles), out_(out) {}
 
   uint32_t emit(uint32_t binaryIndex) {
@@ -28,13 +29,13 @@ class OrientedCollapse {
     for (uint32_t b = 0; b < blockCount; ++b)
       out_.blocks[firstBlock + b].fill(triangles_ + leaf.firstChildOrPrim + 4 * b,
                                        int(std::min<uint32_t>(4, leaf.primCount - 4 * b)));
-    return OrientedWideNode::Codes::kLeafFlag | (firstBlock << 4) | blockCount;
+    return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount;
   }
 
   uint32_t emitNode(const OrientedNode& node) {
-    uint32_t children[4] = {node.firstChildOrPrim, node.firstChildOrPrim + 1};
+    uint32_t children[N] = {node.firstChildOrPrim, node.firstChildOrPrim + 1};
     int count = 2;
-    while (count < 4) {
+    while (count < N) {
       int widest = -1;
       for (int c = 0; c < count; ++c) {
         const OrientedNode& candidate = tree_.nodes[children[c]];
@@ -48,10 +49,10 @@ class OrientedCollapse {
     }
     const uint32_t index = uint32_t(out_.nodes.size());
     out_.nodes.emplace_back();
-    uint32_t codes[4];
+    uint32_t codes[N];
     for (int c = 0; c < count; ++c) codes[c] = emit(children[c]);
-    OrientedWideNode& wide = out_.nodes[index];  // by index: the recursion grew the vector
-    for (int lane = 0; lane < 4; ++lane) {
+    OrientedWideNode<N>& wide = out_.nodes[index];  // by index: the recursion grew the vector
+    for (int lane = 0; lane < N; ++lane) {
       const bool used = lane < count;
       const OrientedNode* child = used ? &tree_.nodes[children[lane]] : nullptr;
       const bool oriented = used && child->oriented();
@@ -65,7 +66,7 @@ class OrientedCollapse {
       }
       wide.oriented[lane] = oriented ? 1.f : 0.f;
       wide.magnitude[lane] = used ? child->magnitude : 0.f;
-      wide.child[lane] = used ? codes[lane] : OrientedWideNode::Codes::kEmptyChild;
+      wide.child[lane] = used ? codes[lane] : WideNode<N>::kEmptyChild;
     }
     wide.usedMask = (1 << count) - 1;
     return index;
@@ -73,17 +74,21 @@ class OrientedCollapse {
 
   const OrientedBvh& tree_;
   const StoredTriangle* triangles_;
-  OrientedWideBvh& out_;
+  OrientedWideBvh<N>& out_;
 };
 
 }  // namespace
 
-OrientedWideBvh collapseOrientedToWide(const OrientedBvh& tree, const StoredTriangle* trianglesInLeafOrder) {
-  OrientedWideBvh out;
+template <int N>
+OrientedWideBvh<N> collapseOrientedToWide(const OrientedBvh& tree, const StoredTriangle* trianglesInLeafOrder) {
+  OrientedWideBvh<N> out;
   if (tree.empty()) return out;
   out.nodes.reserve(tree.nodes.size() / 2);
-  out.rootChild = OrientedCollapse(tree, trianglesInLeafOrder, out).emit(0);
+  out.rootChild = OrientedCollapse<N>(tree, trianglesInLeafOrder, out).emit(0);
   return out;
 }
+
+template OrientedWideBvh<4> collapseOrientedToWide<4>(const OrientedBvh&, const StoredTriangle*);
+template OrientedWideBvh<8> collapseOrientedToWide<8>(const OrientedBvh&, const StoredTriangle*);
 
 }  // namespace obvh

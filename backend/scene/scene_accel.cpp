@@ -95,7 +95,7 @@ void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOp
   const bool sahDecidesLeaves = options.builder == TreeBuilder::Distance ||
                                 (options.builder == TreeBuilder::Sah && options.quality != BuildQuality::Low);
   if (options.maxLeafSize <= 0) triangleOptions.maxLeafSize = defaultMaxLeafSize(layout_, sahDecidesLeaves);
-  if (wide || (oriented && options.obbWidth == 4)) {
+  if (wide || (oriented && options.obbWidth > 2)) {
     // A wide leaf's block count has 4 bits.
     triangleOptions.maxLeafSize = std::min<int>(triangleOptions.maxLeafSize, 4 * Bvh4Node::kMaxLeafBlocks);
   }
@@ -221,15 +221,20 @@ void SceneAccel::makeTriangleViews() {
   triangleView8_ = {};
   triangleBvh8_ = {};
   triangleOrientedView_ = TriangleOrientedView{};
-  triangleOrientedWide_ = {};
-  triangleOrientedWideView_ = {};
+  triangleOrientedWide4_ = {};
+  triangleOrientedWideView4_ = {};
+  triangleOrientedWide8_ = {};
+  triangleOrientedWideView8_ = {};
   if (triangleBvh_.empty()) return;
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) {
     triangleOrientedView_ = {&triangleOriented_, set};
     if (options_.obbWidth == 4) {
-      triangleOrientedWide_ = collapseOrientedToWide(triangleOriented_, triangles_.data());
-      triangleOrientedWideView_ = {&triangleOrientedWide_, set};
+      triangleOrientedWide4_ = collapseOrientedToWide<4>(triangleOriented_, triangles_.data());
+      triangleOrientedWideView4_ = {&triangleOrientedWide4_, set};
+    } else if (options_.obbWidth == 8) {
+      triangleOrientedWide8_ = collapseOrientedToWide<8>(triangleOriented_, triangles_.data());
+      triangleOrientedWideView8_ = {&triangleOrientedWide8_, set};
     }
   }
   CollapseOptions collapse;
@@ -254,7 +259,7 @@ void SceneAccel::makeTriangleViews() {
 // axis-aligned stacks and the real meshes no. (Against the binary oriented tree, obb_width=2, the
 // wide AABB layout was 5.6-7.4x faster a unit.)
 bool SceneAccel::orientedBoxesPayOff() const {
-  const double kWideAabbAdvantage = options_.obbWidth == 4 ? 3.0 : 6.5;
+  const double kWideAabbAdvantage = options_.obbWidth > 2 ? 3.0 : 6.5;
   if (options_.maxLeafSize > int(4 * Bvh4Node::kMaxLeafBlocks)) return true;  // no wide layout can hold the leaves
   return measureLayout(triangleOriented_, options_).sahCost * kWideAabbAdvantage <
          measureLayout(triangleBvh_, options_).sahCost;
@@ -425,8 +430,10 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
     found = intersectWideTriangles(ray, hit, state);
   else if (layout_ == AccelLayout::Bvh2)
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
-  else if (!triangleOrientedWideView_.empty())
-    found = intersectClosestOrientedWide(triangleOrientedWideView_, ray, hit, state, counters);
+  else if (!triangleOrientedWideView8_.empty())
+    found = intersectClosestOrientedWide(triangleOrientedWideView8_, ray, hit, state, counters);
+  else if (!triangleOrientedWideView4_.empty())
+    found = intersectClosestOrientedWide(triangleOrientedWideView4_, ray, hit, state, counters);
   else
     found = !triangleOrientedView_.empty() && intersectClosestOriented(triangleOrientedView_, ray, hit, state, counters);
   return intersectObjects(ray, hit, state) || found;
@@ -443,8 +450,10 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCoun
     if (occludedWideTriangles(ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh2) {
     if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
-  } else if (!triangleOrientedWideView_.empty()) {
-    if (intersectAnyOrientedWide(triangleOrientedWideView_, ray, state, counters)) return true;
+  } else if (!triangleOrientedWideView8_.empty()) {
+    if (intersectAnyOrientedWide(triangleOrientedWideView8_, ray, state, counters)) return true;
+  } else if (!triangleOrientedWideView4_.empty()) {
+    if (intersectAnyOrientedWide(triangleOrientedWideView4_, ray, state, counters)) return true;
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
     return true;
   }
@@ -548,8 +557,9 @@ SceneStats SceneAccel::stats() const {
                   shapes_.size() * sizeof(ShapePrimitive) +
                   geometryMasks_.size() * (sizeof(uint32_t) + 2) +
                   triangleOriented_.nodes.size() * sizeof(OrientedNode) + triangleOriented_.frames.size() * sizeof(Frame) +
-                  triangleOrientedWide_.nodes.size() * sizeof(OrientedWideNode) +
-                  triangleOrientedWide_.blocks.size() * sizeof(TriangleBlock4);
+                  triangleOrientedWide4_.nodes.size() * sizeof(OrientedWideNode<4>) +
+                  triangleOrientedWide8_.nodes.size() * sizeof(OrientedWideNode<8>) +
+                  (triangleOrientedWide4_.blocks.size() + triangleOrientedWide8_.blocks.size()) * sizeof(TriangleBlock4);
   for (const auto* blocks : {&triangleBvh4_.blocks, &triangleBvh8_.blocks}) {
     s.leafBlockCount += blocks->size();
     for (const TriangleBlock4& block : *blocks) s.usedBlockLanes += size_t(__builtin_popcount(block.usedLanes()));

@@ -122,8 +122,10 @@ class SceneAccel {
   TriangleWideView<8> triangleView8_;
   OrientedBvh triangleOriented_;
   TriangleOrientedView triangleOrientedView_;
-  OrientedWideBvh triangleOrientedWide_;  // when options_.obbWidth == 4
-  TriangleOrientedWideView triangleOrientedWideView_;
+  OrientedWideBvh<4> triangleOrientedWide4_;  // when options_.obbWidth == 4
+  TriangleOrientedWideView<4> triangleOrientedWideView4_;
+  OrientedWideBvh<8> triangleOrientedWide8_;  // when options_.obbWidth == 8
+  TriangleOrientedWideView<8> triangleOrientedWideView8_;
   BuildOptions options_;
   BuildOptions requested_;  // as passed to build(), for refit's same-options check
   std::vector<StoredTriangle> triangles_;

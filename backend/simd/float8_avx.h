@@ -19,6 +19,11 @@ struct Float8Avx {
   OBVH_AVX2 friend Float8Avx operator+(Float8Avx a, Float8Avx b) { return {_mm256_add_ps(a.v, b.v)}; }
   OBVH_AVX2 friend Float8Avx operator-(Float8Avx a, Float8Avx b) { return {_mm256_sub_ps(a.v, b.v)}; }
   OBVH_AVX2 friend Float8Avx operator*(Float8Avx a, Float8Avx b) { return {_mm256_mul_ps(a.v, b.v)}; }
+  OBVH_AVX2 friend Float8Avx operator/(Float8Avx a, Float8Avx b) { return {_mm256_div_ps(a.v, b.v)}; }
+  // See FloatScalar::replaceNaN.
+  OBVH_AVX2 friend Float8Avx replaceNaN(Float8Avx a, Float8Avx b) {
+    return {_mm256_blendv_ps(a.v, b.v, _mm256_cmp_ps(a.v, a.v, _CMP_UNORD_Q))};
+  }
   OBVH_AVX2 friend Float8Avx min(Float8Avx a, Float8Avx b) { return {_mm256_min_ps(a.v, b.v)}; }
   OBVH_AVX2 friend Float8Avx max(Float8Avx a, Float8Avx b) { return {_mm256_max_ps(a.v, b.v)}; }
   OBVH_AVX2 friend int lessEqualMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }

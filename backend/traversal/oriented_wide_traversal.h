@@ -1,7 +1,7 @@
-// Ray queries against the four-wide oriented layout (oriented_wide_bvh.h): the ray is transformed
-// into the four children's frames in one SSE pass, children are visited near to far for closest
-// hits, and leaves are tested as blocks of four triangles like the wide AABB layouts' leaves.
-// SSE2 only, which every x86-64 CPU has, so there is one kernel and no run-time choice.
+// Ray queries against the wide oriented layouts (oriented_wide_bvh.h): the ray is transformed into
+// the children's frames in one SIMD pass, children are visited near to far for closest hits, and
+// leaves are tested as blocks of four triangles like the wide AABB layouts' leaves. Four-wide
+// nodes run on SSE2, which every x86-64 CPU has; eight-wide nodes need AVX2.
 #pragma once
 
 #include "bvh/oriented_wide_bvh.h"
@@ -10,15 +10,24 @@
 
 namespace obvh {
 
+template <int N>
 struct TriangleOrientedWideView {
-  const OrientedWideBvh* bvh = nullptr;
+  const OrientedWideBvh<N>* bvh = nullptr;
   TriangleSet set;
   bool empty() const { return bvh == nullptr || bvh->empty(); }
 };
 
-bool intersectClosestOrientedWide(const TriangleOrientedWideView& view, Ray& ray, Hit& hit, const QueryState& state,
+// The node width the oriented layouts trace fastest on this CPU: 8 with AVX2, else 4.
+int fastestOrientedWidth();
+
+bool intersectClosestOrientedWide(const TriangleOrientedWideView<4>& view, Ray& ray, Hit& hit, const QueryState& state,
                                   TraversalCounters* counters = nullptr);
-bool intersectAnyOrientedWide(const TriangleOrientedWideView& view, const Ray& ray, const QueryState& state,
+bool intersectAnyOrientedWide(const TriangleOrientedWideView<4>& view, const Ray& ray, const QueryState& state,
+                              TraversalCounters* counters = nullptr);
+// Only on CPUs with AVX2 (oriented_wide_traversal_avx2.cpp).
+bool intersectClosestOrientedWide(const TriangleOrientedWideView<8>& view, Ray& ray, Hit& hit, const QueryState& state,
+                                  TraversalCounters* counters = nullptr);
+bool intersectAnyOrientedWide(const TriangleOrientedWideView<8>& view, const Ray& ray, const QueryState& state,
                               TraversalCounters* counters = nullptr);
 
 }  // namespace obvh

@@ -1,10 +1,12 @@
 #include "layout_configs.h"
 
+#include "traversal/oriented_wide_traversal.h"
+
 namespace obvh::tools {
 namespace {
 
 LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout, ObbSplit split = ObbSplit::AabbSah,
-                  int clusters = 0, int obbWidth = 4) {
+                  int clusters = 0, int obbWidth = fastestOrientedWidth()) {
   LayoutConfig c{name, deviceConfig, BuildOptions{}};
   c.options.obbWidth = obbWidth;
   c.options.layout = layout;
@@ -22,6 +24,7 @@ const std::vector<LayoutConfig>& layoutConfigs() {
       make("aabb-bvh8", "accel=bvh8", AccelLayout::Bvh8),
       make("obb", "accel=obb", AccelLayout::Obb),  // the axis-aligned SAH tree traced with oriented boxes
       make("obb-binary", "accel=obb,obb_width=2", AccelLayout::Obb, ObbSplit::AabbSah, 0, 2),
+      make("obb-w4", "accel=obb,obb_width=4", AccelLayout::Obb, ObbSplit::AabbSah, 0, 4),
       make("obb-midpoint", "accel=obb,obb_split=midpoint", AccelLayout::Obb, ObbSplit::Midpoint),
       make("obb-median", "accel=obb,obb_split=median", AccelLayout::Obb, ObbSplit::Median),
       make("obb-sah", "accel=obb,obb_split=sah", AccelLayout::Obb, ObbSplit::Sah),

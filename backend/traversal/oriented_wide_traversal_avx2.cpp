@@ -1,0 +1,32 @@
+// The AVX2 instantiation of the eight-wide oriented kernels; compiled as wide_traversal_avx2.cpp
+// is (a target region after the shared headers, no FMA contraction), called only on CPUs with AVX2.
+#include <cmath>
+#include <limits>
+
+#include "simd/float4_sse.h"
+#include "traversal/box_test.h"
+#include "traversal/oriented_box_test.h"
+#include "traversal/oriented_wide_traversal.h"
+#include "traversal/triangle_block_leaf.h"
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+#include "simd/float8_avx.h"
+#include "traversal/oriented_wide_traverse.h"
+
+namespace obvh {
+
+bool intersectClosestOrientedWide(const TriangleOrientedWideView<8>& view, Ray& ray, Hit& hit, const QueryState& state,
+                                  TraversalCounters* counters) {
+  return intersectClosestOrientedWideImpl<simd::Float8Avx, simd::Float4Sse>(view, ray, hit, state, counters);
+}
+
+bool intersectAnyOrientedWide(const TriangleOrientedWideView<8>& view, const Ray& ray, const QueryState& state,
+                              TraversalCounters* counters) {
+  return intersectAnyOrientedWideImpl<simd::Float8Avx, simd::Float4Sse>(view, ray, state, counters);
+}
+
+}  // namespace obvh
+
+#pragma GCC pop_options
