@@ -2,7 +2,7 @@
 // bounded by a box in its own frame (an axis-aligned child has the identity frame and is tested
 // exactly), and one SIMD pass transforms the ray into the children's frames and runs their slab
 // tests. Leaves are TriangleBlock4 groups as in the wide AABB layouts. Collapsed from the binary
-// oriented tree by opening, until a node is full, the child whose box has the largest surface.
+// oriented tree as the cut of least SAH cost (oriented_wide_collapse.cpp).
 #pragma once
 
 #include <cstdint>
@@ -36,11 +36,22 @@ struct OrientedWideBvh {
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
 };
 
+// How the binary tree's subtrees become wide nodes and leaves (collapseOrientedToWide).
+struct OrientedCollapseOptions {
+  bool sahOptimal = true;     // else greedy: open the widest child until the node is full
+  uint32_t maxLeafPrims = 4;  // largest leaf a subtree may be merged into (at most 4 * kMaxLeafBlocks)
+  float nodeCost = 1.f;       // a node visit, in triangle-block tests
+};
+
+// The wide tree of least SAH cost among the cuts of the binary tree, or the greedy one (see the .cpp).
 // trianglesInLeafOrder: the triangles the binary tree's leaves index (its leaves hold at most
 // 4 * WideNode<N>::kMaxLeafBlocks triangles).
 template <int N>
-OrientedWideBvh<N> collapseOrientedToWide(const OrientedBvh& tree, const StoredTriangle* trianglesInLeafOrder);
-extern template OrientedWideBvh<4> collapseOrientedToWide<4>(const OrientedBvh&, const StoredTriangle*);
-extern template OrientedWideBvh<8> collapseOrientedToWide<8>(const OrientedBvh&, const StoredTriangle*);
+OrientedWideBvh<N> collapseOrientedToWide(const OrientedBvh& tree, const StoredTriangle* trianglesInLeafOrder,
+                                          const OrientedCollapseOptions& options = {});
+extern template OrientedWideBvh<4> collapseOrientedToWide<4>(const OrientedBvh&, const StoredTriangle*,
+                                                             const OrientedCollapseOptions&);
+extern template OrientedWideBvh<8> collapseOrientedToWide<8>(const OrientedBvh&, const StoredTriangle*,
+                                                             const OrientedCollapseOptions&);
 
 }  // namespace obvh

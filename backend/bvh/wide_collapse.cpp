@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "bvh/collapse_forest.h"
 #include "bvh/wide_bvh.h"
 #include "memory/huge_pages.h"
 
@@ -153,6 +154,14 @@ class SahCollapser {
     return writeSubtree(0, 0, 0);
   }
 
+  // Tree access for wideChildrenOf (collapse_forest.h). Over the greedy collapse, rays from a point
+  // source inside diagonal-42k ran 3.7x as fast in its larger-first order and 2.3x in the binary
+  // tree's left-to-right order (README, Performance).
+  const ForestChoice<N>& choice(uint32_t node) const { return plans_[node].forest; }
+  bool isLeaf(uint32_t node) const { return nodes_[node].isLeaf(); }
+  uint32_t leftChild(uint32_t node) const { return nodes_[node].firstChildOrPrim; }
+  float area(uint32_t node) const { return nodes_[node].bounds.halfArea(); }
+
  private:
   struct PrimRange {
     uint32_t first, count;
@@ -163,9 +172,7 @@ class SahCollapser {
   // (the write of the dragon's wide tree took 75 ms with five tables).
   struct NodePlan {
     PrimRange range;
-    int8_t split[N];  // [j - 1]: roots from the left child in the cheapest forest of exactly j
-    int8_t roots[N];  // [i - 1]: how many roots the cheapest forest of at most i has
-    bool leafChosen;
+    ForestChoice<N> forest;
   };
   // The wide subtree a binary node roots when the collapse makes it a node or leaf of its own.
   struct SubtreeSize {
@@ -203,13 +210,10 @@ class SahCollapser {
   SubtreePlan planLeaf(uint32_t node) {
     const Bvh2Node& b = nodes_[node];
     NodePlan& plan = plans_[node];
-    std::fill_n(plan.split, N, int8_t(0));
-    std::fill_n(plan.roots, N, int8_t(1));
     plan.range = {b.firstChildOrPrim, b.primCount, true};
-    plan.leafChosen = true;
     sizes_[node] = {0, WideWriter<N>::blockCount(b.primCount)};
     SubtreePlan out;
-    std::fill_n(out.cost, N, b.bounds.halfArea() * blocks(b.primCount));
+    chooseLeaf(plan.forest, b.bounds.halfArea() * blocks(b.primCount), out.cost);
     out.range = plan.range;
     return out;
   }
@@ -217,35 +221,14 @@ class SahCollapser {
   SubtreePlan planInterior(uint32_t node, const SubtreePlan& l, const SubtreePlan& r) {
     const float area = nodes_[node].bounds.halfArea();
     NodePlan& plan = plans_[node];
-    std::fill_n(plan.split, N, int8_t(0));
-    std::fill_n(plan.roots, N, int8_t(1));
     plan.range = {l.range.first, l.range.count + r.range.count,
                   l.range.contiguous && r.range.contiguous && l.range.first + l.range.count == r.range.first};
-    // Forests of j roots, j = 2..N: k of them from the left child, j - k from the right.
-    float forest[N + 1];
-    for (int j = 2; j <= N; ++j) {
-      forest[j] = kInfinity;
-      for (int k = 1; k < j; ++k) {
-        const float c = l.cost[k - 1] + r.cost[j - k - 1];
-        if (c < forest[j]) forest[j] = c, plan.split[j - 1] = int8_t(k);
-      }
-    }
-    const float asNode = area + forest[N];
     const bool mergeable = plan.range.contiguous && plan.range.count <= maxLeafPrims_;
     const float asLeaf = mergeable ? area * blocks(plan.range.count) : kInfinity;
-    plan.leafChosen = asLeaf <= asNode;
     SubtreePlan out;
     out.range = plan.range;
-    out.cost[0] = std::min(asLeaf, asNode);
-    for (int i = 2; i <= N; ++i) {
-      const float fewer = out.cost[i - 2];
-      if (forest[i] < fewer) {
-        out.cost[i - 1] = forest[i], plan.roots[i - 1] = int8_t(i);
-      } else {
-        out.cost[i - 1] = fewer, plan.roots[i - 1] = plan.roots[i - 2];
-      }
-    }
-    if (plan.leafChosen) {
+    chooseInterior(l.cost, r.cost, area, asLeaf, plan.forest, out.cost);
+    if (plan.forest.leafChosen) {
       sizes_[node] = {0, WideWriter<N>::blockCount(plan.range.count)};
       return out;
     }
@@ -257,46 +240,11 @@ class SahCollapser {
     return out;
   }
 
-  // The children of the wide node that binary node `node` becomes, larger first: the lane order
-  // decides between children entered at the same distance (rays starting inside several boxes)
-  // and is the any-hit visiting order. Over the greedy collapse, rays from a point source inside
-  // diagonal-42k ran 3.7x as fast in this order and 2.3x in the binary tree's left-to-right order
-  // (README, Performance). Insertion sort, stable: at most N entries and no allocation per node
-  // (std::stable_sort allocates a buffer per call; refit commits of the dragon took up to 100 ms
-  // longer with it).
-  int wideChildren(uint32_t node, uint32_t children[N]) const {
-    int count = 0;
-    const uint32_t left = nodes_[node].firstChildOrPrim;
-    const int k = plans_[node].split[N - 1];
-    gather(left, k, children, count);
-    gather(left + 1, N - k, children, count);
-    float area[N];
-    for (int c = 0; c < count; ++c) {
-      const uint32_t child = children[c];
-      const float a = nodes_[child].bounds.halfArea();
-      int slot = c;
-      for (; slot > 0 && area[slot - 1] < a; --slot) children[slot] = children[slot - 1], area[slot] = area[slot - 1];
-      children[slot] = child, area[slot] = a;
-    }
-    return count;
-  }
-
-  // Appends the roots of the cheapest forest of at most `most` subtrees standing for `node`.
-  void gather(uint32_t node, int most, uint32_t* roots, int& count) const {
-    const NodePlan& plan = plans_[node];
-    const int j = plan.roots[most - 1];
-    if (j == 1 || nodes_[node].isLeaf()) {
-      roots[count++] = node;
-      return;
-    }
-    const int k = plan.split[j - 1];
-    gather(nodes_[node].firstChildOrPrim, k, roots, count);
-    gather(nodes_[node].firstChildOrPrim + 1, j - k, roots, count);
-  }
+  int wideChildren(uint32_t node, uint32_t children[N]) const { return wideChildrenOf<N>(*this, node, children); }
 
   uint32_t writeSubtree(uint32_t node, uint32_t nodeIndex, uint32_t firstBlock) {
     const NodePlan& plan = plans_[node];
-    if (plan.leafChosen) return writer_.writeLeafAt(firstBlock, plan.range.first, plan.range.count);
+    if (plan.forest.leafChosen) return writer_.writeLeafAt(firstBlock, plan.range.first, plan.range.count);
     uint32_t children[N], childNode[N], childBlock[N], codes[N];
     const int count = wideChildren(node, children);
     uint32_t nextNode = nodeIndex + 1, nextBlock = firstBlock;

@@ -24,6 +24,7 @@ const std::vector<LayoutConfig>& layoutConfigs() {
       make("aabb-bvh8", "accel=bvh8", AccelLayout::Bvh8),
       make("obb", "accel=obb", AccelLayout::Obb),  // the axis-aligned SAH tree traced with oriented boxes
       make("obb-binary", "accel=obb,obb_width=2", AccelLayout::Obb, ObbSplit::AabbSah, 0, 2),
+      [] { auto c = make("obb-greedy", "accel=obb,collapse=greedy", AccelLayout::Obb); c.options.collapse = WideCollapse::Greedy; return c; }(),
       make("obb-w4", "accel=obb,obb_width=4", AccelLayout::Obb, ObbSplit::AabbSah, 0, 4),
       make("obb-midpoint", "accel=obb,obb_split=midpoint", AccelLayout::Obb, ObbSplit::Midpoint),
       make("obb-median", "accel=obb,obb_split=median", AccelLayout::Obb, ObbSplit::Median),
