@@ -1,8 +1,13 @@
-// The dynamic programme of the SAH-optimal wide collapses (Ylitie, Karras and Laine, "Efficient
-// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017), shared by the AABB
-// layouts (wide_collapse.cpp) and the oriented ones (oriented_wide_collapse.cpp): bottom-up, per
-// binary node and i = 1..N, the cheapest forest of at most i wide roots standing for the node's
-// subtree, and the choices that give it; then, top-down, the roots a wide node gets.
+// How the wide collapses choose a wide node's children among a binary node's descendants, shared by
+// the AABB layouts (wide_collapse.cpp) and the oriented ones (oriented_wide_collapse.cpp): greedily
+// (open the widest child until the node is full), or by the dynamic programme of the SAH-optimal
+// collapse (Ylitie, Karras and Laine, "Efficient Incoherent Ray Traversal on GPUs Through
+// Compressed Wide BVHs", HPG 2017): bottom-up, per binary node and i = 1..N, the cheapest forest of
+// at most i wide roots standing for the node's subtree, and the choices that give it; then,
+// top-down, the roots a wide node gets.
+//
+// Tree access: isLeaf(node), leftChild(node) (the right child is the next index), area(node) ->
+// float, and for the dynamic programme choice(node) -> const ForestChoice<N>&.
 #pragma once
 
 #include <algorithm>
@@ -55,8 +60,6 @@ void chooseInterior(const float left[N], const float right[N], float nodeCost, f
   }
 }
 
-// Tree access for the top-down part: choice(node) -> const ForestChoice<N>&, isLeaf(node),
-// leftChild(node) (the right child is the next index), area(node) -> float.
 template <int N, typename Tree>
 void gatherForest(const Tree& tree, uint32_t node, int most, uint32_t* roots, int& count) {
   const ForestChoice<N>& c = tree.choice(node);
@@ -87,6 +90,30 @@ int wideChildrenOf(const Tree& tree, uint32_t node, uint32_t children[N]) {
     int slot = c;
     for (; slot > 0 && area[slot - 1] < a; --slot) children[slot] = children[slot - 1], area[slot] = area[slot - 1];
     children[slot] = child, area[slot] = a;
+  }
+  return count;
+}
+
+// The children of interior binary node `node` as a wide node of the greedy collapse: starting from
+// its two children, the interior child of largest area is opened (replaced by its two children)
+// until the node is full or only leaves are left.
+template <int N, typename Tree>
+int greedyChildrenOf(const Tree& tree, uint32_t node, uint32_t children[N]) {
+  children[0] = tree.leftChild(node), children[1] = tree.leftChild(node) + 1;
+  int count = 2;
+  while (count < N) {
+    int widest = -1;
+    float widestArea = -1.f;
+    for (int c = 0; c < count; ++c) {
+      if (!tree.isLeaf(children[c]) && tree.area(children[c]) > widestArea) {
+        widestArea = tree.area(children[c]);
+        widest = c;
+      }
+    }
+    if (widest < 0) break;
+    const uint32_t opened = children[widest];
+    children[widest] = tree.leftChild(opened);
+    children[count++] = tree.leftChild(opened) + 1;
   }
   return count;
 }

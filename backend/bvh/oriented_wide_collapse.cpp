@@ -76,22 +76,15 @@ class OrientedGreedyCollapse {
   uint32_t emit(uint32_t node) {
     const OrientedNode& b = tree_.nodes[node];
     if (b.isLeaf()) return writer_.emitLeaf(b.firstChildOrPrim, b.primCount);
-    uint32_t children[N] = {b.firstChildOrPrim, b.firstChildOrPrim + 1};
-    int count = 2;
-    while (count < N) {
-      int widest = -1;
-      for (int c = 0; c < count; ++c) {
-        const OrientedNode& candidate = tree_.nodes[children[c]];
-        if (!candidate.isLeaf() && (widest < 0 || halfAreaOf(candidate) > halfAreaOf(tree_.nodes[children[widest]])))
-          widest = c;
-      }
-      if (widest < 0) break;
-      const uint32_t first = tree_.nodes[children[widest]].firstChildOrPrim;
-      children[widest] = first;
-      children[count++] = first + 1;
-    }
+    uint32_t children[N];
+    const int count = greedyChildrenOf<N>(*this, node, children);
     return writer_.emitNode(children, count, [this](uint32_t child) { return emit(child); });
   }
+
+  // Tree access for greedyChildrenOf (collapse_forest.h).
+  bool isLeaf(uint32_t node) const { return tree_.nodes[node].isLeaf(); }
+  uint32_t leftChild(uint32_t node) const { return tree_.nodes[node].firstChildOrPrim; }
+  float area(uint32_t node) const { return halfAreaOf(tree_.nodes[node]); }
 
  private:
   const OrientedBvh& tree_;
@@ -119,7 +112,7 @@ class OrientedSahCollapse {
     return writer_.emitNode(children, count, [this](uint32_t child) { return emit(child); });
   }
 
-  // Tree access for wideChildrenOf.
+  // Tree access for wideChildrenOf (collapse_forest.h).
   const ForestChoice<N>& choice(uint32_t node) const { return plans_[node].forest; }
   bool isLeaf(uint32_t node) const { return tree_.nodes[node].isLeaf(); }
   uint32_t leftChild(uint32_t node) const { return tree_.nodes[node].firstChildOrPrim; }

@@ -96,25 +96,15 @@ class GreedyCollapser {
   uint32_t collapse(uint32_t index) {
     const Bvh2Node& node = nodes_[index];
     if (node.isLeaf()) return writer_.emitLeaf(node.firstChildOrPrim, node.primCount);
-    uint32_t children[N] = {node.firstChildOrPrim, node.firstChildOrPrim + 1};
-    int count = 2;
-    while (count < N) {
-      int best = -1;
-      float bestArea = -1.f;
-      for (int c = 0; c < count; ++c) {
-        const Bvh2Node& candidate = nodes_[children[c]];
-        if (!candidate.isLeaf() && candidate.bounds.halfArea() > bestArea) {
-          bestArea = candidate.bounds.halfArea();
-          best = int(c);
-        }
-      }
-      if (best < 0) break;
-      const uint32_t opened = children[best];
-      children[best] = nodes_[opened].firstChildOrPrim;
-      children[count++] = nodes_[opened].firstChildOrPrim + 1;
-    }
+    uint32_t children[N];
+    const int count = greedyChildrenOf<N>(*this, index, children);
     return writer_.emitNode(children, count, [this](uint32_t child) { return collapse(child); });
   }
+
+  // Tree access for greedyChildrenOf (collapse_forest.h).
+  bool isLeaf(uint32_t node) const { return nodes_[node].isLeaf(); }
+  uint32_t leftChild(uint32_t node) const { return nodes_[node].firstChildOrPrim; }
+  float area(uint32_t node) const { return nodes_[node].bounds.halfArea(); }
 
  private:
   WideWriter<N>& writer_;

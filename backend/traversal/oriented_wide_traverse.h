@@ -11,6 +11,7 @@
 #include "traversal/box_test.h"
 #include "traversal/oriented_box_test.h"
 #include "traversal/oriented_wide_traversal.h"
+#include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
 
 namespace obvh {
@@ -62,13 +63,9 @@ void traverseOrientedWide(const OrientedWideBvh<FN::kWidth>& bvh, const Ray& ray
                           LeafVisitor&& leafVisitor) {
   constexpr int N = FN::kWidth;
   using Codes = WideNode<N>;
-  struct Pending {
-    uint32_t child;
-    float t;
-  };
   if (bvh.empty()) return;
   const OrientedWideRay<FN> r(ray);
-  Pending stack[(N - 1) * 128];
+  StackEntry stack[(N - 1) * 128];
   int top = 0;
   alignas(32) float entry[N];
   uint32_t current = bvh.rootChild;
@@ -83,29 +80,29 @@ void traverseOrientedWide(const OrientedWideBvh<FN::kWidth>& bvh, const Ray& ray
         for (int m = node.usedMask; m; m &= m - 1) ++counters->obbTests;
       int mask = enterOrientedChildren(node, r, ray.tnear, ray.tfar, entry);
       if (mask) {
-        Pending entered[N];
+        StackEntry entered[N];
         int n = 0;
         for (; mask; mask &= mask - 1) {
           const int lane = __builtin_ctz(unsigned(mask));
-          const Pending p{node.child[lane], entry[lane]};
+          const StackEntry e{node.child[lane], entry[lane]};
           int k = n++;
-          while (kNearToFar && k > 0 && entered[k - 1].t > p.t) {
+          while (kNearToFar && k > 0 && entered[k - 1].t() > e.t()) {
             entered[k] = entered[k - 1];
             --k;
           }
-          entered[k] = p;
+          entered[k] = e;
         }
         for (int k = n - 1; k >= 1; --k) stack[top++] = entered[k];
-        current = entered[0].child;
+        current = entered[0].child();
         descended = true;
       }
     }
     if (descended) continue;
     for (;;) {
       if (top == 0) return;
-      const Pending p = stack[--top];
-      if (p.t > ray.tfar) continue;
-      current = p.child;
+      const StackEntry e = stack[--top];
+      if (e.t() > ray.tfar) continue;
+      current = e.child();
       break;
     }
   }
