@@ -258,11 +258,13 @@ void SceneAccel::makeTriangleViews() {
 
 // The hybrid's whole-tree choice. Both layouts trace wide nodes, but an oriented child costs a
 // transform of the ray into its frame: per unit of the binary trees' SAH cost the eight-wide AABB
-// layout traced 2.5-3.5x faster than the four-wide oriented one on the five stack presets up to
-// 42k triangles (README, layout study), so the hybrid keeps the oriented tree only where it cuts
-// the SAH cost at least kWideAabbAdvantage-fold, the middle of that range: slanted lines yes,
-// axis-aligned stacks and the real meshes no. (Against the binary oriented tree, obb_width=2, the
-// wide AABB layout was 5.6-7.4x faster a unit.)
+// layout traced 1.5-2.1x faster than the eight-wide oriented one (SAH collapse) on the five stack
+// presets up to 42k triangles, 2.5-3.5x faster than the four-wide greedy one (README, layout
+// study). The hybrid keeps the oriented tree where it cuts the SAH cost at least
+// kWideAabbAdvantage-fold: the slanted presets cut it 4-17-fold, the axis-aligned preset and the
+// real meshes not at all (0.7-0.9), so any factor from 1 to 4 makes the same choices there; 3
+// leaves the doubtful cases to the AABB layout. (Against the binary oriented tree, obb_width=2,
+// the wide AABB layout was 5.6-7.4x faster a unit.)
 bool SceneAccel::orientedBoxesPayOff() const {
   const double kWideAabbAdvantage = options_.obbWidth > 2 ? 3.0 : 6.5;
   if (options_.maxLeafSize > int(4 * Bvh4Node::kMaxLeafBlocks)) return true;  // no wide layout can hold the leaves
@@ -292,7 +294,8 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
-         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters && a.obbWidth == b.obbWidth &&
+         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
+         a.obbWidth == b.obbWidth &&
          a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&
          a.traversalCost == b.traversalCost &&
          a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
