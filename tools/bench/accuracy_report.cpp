@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "accuracy_study.h"
-#include "mesh_loader.h"
+#include "triangle_scene_file.h"
 #include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
@@ -31,7 +31,7 @@ struct ReportOptions {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench accuracy: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_bench accuracy [--scene FILE.obj|FILE.ply]... [--runs N] [--rays-per-case N] [--out DIR]\n"
+               "usage: obvh_bench accuracy [--scene FILE.obj|.ply|.glb|.gltf]... [--runs N] [--rays-per-case N] [--out DIR]\n"
                "  Per accuracy mode of obvh and of Debian's Embree: Mrays/s on each scene (default: the bunny)\n"
                "  and the error rates of the accuracy study; writes DIR/accuracy.csv and DIR/accuracy.png.\n");
   std::exit(error.empty() ? 0 : 2);
@@ -109,7 +109,7 @@ int runAccuracyReport(int argc, char** argv) {
   const ReportOptions options = parse(argc, argv);
   try {
     std::vector<SceneData> scenes;
-    for (const std::string& path : options.scenes) scenes.push_back(loadMesh(path));
+    for (const std::string& path : options.scenes) scenes.push_back(obvh::render::loadTriangleScene(path));
     std::string error;
     auto embree = RtcLibrary::open(referenceEmbreePath(), "embree", error);
     if (!embree) throw std::runtime_error(error + " (install Debian's libembree-dev)");

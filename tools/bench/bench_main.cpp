@@ -21,7 +21,7 @@
 #include "build_statistics.h"
 #include "hit_compare.h"
 #include "image_io.h"
-#include "mesh_loader.h"
+#include "triangle_scene_file.h"
 #include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
@@ -50,7 +50,7 @@ struct Options {
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
-               "usage: obvh_bench [--scene FILE.obj|FILE.ply] [--width W] [--height H] [--runs N] [--random-rays N] "
+               "usage: obvh_bench [--scene FILE.obj|.ply|.glb|.gltf] [--width W] [--height H] [--runs N] [--random-rays N] "
                "[--out DIR] [--quality low|medium|high] [--threads N] [--source X,Y,Z]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "       obvh_bench ladder --help     (what a build quality buys in trace speed)\n"
@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::strcmp(argv[1], "ladder") == 0) return runLadderReport(argc - 1, argv + 1);
   const Options options = parseOptions(argc, argv);
   try {
-    const SceneData scene = loadMesh(options.scene);
+    const SceneData scene = obvh::render::loadTriangleScene(options.scene);
     std::string error;
     auto embree = RtcLibrary::open(referenceEmbreePath(), "embree", error);
     if (!embree) throw std::runtime_error(error + " (install Debian's libembree-dev)");

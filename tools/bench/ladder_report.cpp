@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "build_quality.h"
-#include "mesh_loader.h"
+#include "triangle_scene_file.h"
 #include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
@@ -40,7 +40,7 @@ std::vector<std::string> splitPair(const std::string& value) {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench ladder: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_bench ladder [--scene FILE.obj|FILE.ply]... [--rounds N] [--threads N] [--random-rays N]\n"
+               "usage: obvh_bench ladder [--scene FILE.obj|.ply|.glb|.gltf]... [--rounds N] [--threads N] [--random-rays N]\n"
                "                         [--qualities low|medium|high,low|medium|high] [--obvh-configs 'A;B']\n"
                "                         [--obvh-libraries 'A.so;B.so']\n"
                "  Builds each scene with Debian's Embree and with obvh at two qualities (default medium,high),\n"
@@ -241,7 +241,7 @@ int runLadderReport(int argc, char** argv) {
     }
     std::printf(", %d rounds, %s threads; per round every scene traces every workload once\n", options.rounds,
                 options.threads > 0 ? std::to_string(options.threads).c_str() : "all");
-    for (const std::string& path : options.scenes) runScene(loadMesh(path), options, *embree, devices);
+    for (const std::string& path : options.scenes) runScene(obvh::render::loadTriangleScene(path), options, *embree, devices);
     for (auto [lib, d] : created) lib->rtcReleaseDevice(d);
     return 0;
   } catch (const std::exception& e) {

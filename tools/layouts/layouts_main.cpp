@@ -17,7 +17,7 @@
 
 #include "layout_configs.h"
 #include "layout_measure.h"
-#include "mesh_loader.h"
+#include "triangle_scene_file.h"
 #include "command_line.h"
 #include "ray_generation.h"
 #include "rtc_library.h"
@@ -39,7 +39,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_layouts: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_layouts [--preset NAME]... [--all-presets] [--scene FILE.obj|.ply]... [--configs A,B,...]\n"
+               "usage: obvh_layouts [--preset NAME]... [--all-presets] [--scene FILE.obj|.ply|.glb|.gltf]... [--configs A,B,...]\n"
                "                    [--width W] [--height H] [--runs N] [--heatmaps DIR] [--no-embree]\n"
                "  presets: obvh_stackgen --list; configs:");
   for (const LayoutConfig& c : layoutConfigs()) std::fprintf(stderr, " %s", c.name.c_str());
@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
       study(generateStack(preset.params, preset.name).asScene(), preset.name, o, embree.get());
     }
     for (const std::string& path : o.meshes) {
-      const SceneData scene = loadMesh(path);
+      const SceneData scene = obvh::render::loadTriangleScene(path);
       study(scene, std::filesystem::path(path).stem().string(), o, embree.get());
     }
     if (!o.heatmapDir.empty()) std::printf("\nheatmaps (BV tests per pixel, log scale 1..256): %s/\n", o.heatmapDir.c_str());

