@@ -49,7 +49,7 @@ TEST(GltfLoader, BrokenSamplesAreRefusedWithTheReason) {
 
 TEST(GltfLoader, MissingAndUnknownFilesAreNamed) {
   EXPECT_NE(loadError("/nonexistent/scene.glb").find("/nonexistent/scene.glb"), std::string::npos);
-  EXPECT_NE(loadError("/etc/hostname").find("reads .gltf, .glb, .obj and .ply"), std::string::npos);
+  EXPECT_NE(loadError("/etc/hostname").find("reads .gltf, .glb, .obj, .ply and .stl"), std::string::npos);
   const std::string truncated = std::string(OBVH_TEST_WORK_DIR) + "/truncated.glb";
   std::ofstream(truncated) << "glTF\x02";
   EXPECT_NE(loadError(truncated).find("truncated"), std::string::npos) << loadError(truncated);

@@ -10,25 +10,13 @@
 #include <vector>
 
 #include "mesh_loader.h"
+#include "reader_test_files.h"
 #include "ply_reader.h"
 
 namespace obvh::tools {
 namespace {
 
-std::string writeFile(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
-
-std::string errorOf(const std::string& path) {
-  try {
-    readPly(path);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string errorOf(const std::string& path) { return readError(readPly, path); }
 
 TEST(PlyReader, AsciiWithQuadAndExtraProperties) {
   const std::string path = writeFile("quad.ply",
@@ -73,7 +61,7 @@ TEST(PlyReader, BrokenFilesAreReportedByName) {
   EXPECT_NE(errorOf(writeFile("noxyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n"))
                 .find("without x, y and z"),
             std::string::npos);
-  EXPECT_THROW(loadMesh("scene.stl"), std::runtime_error);
+  EXPECT_THROW(loadMesh("scene.3ds"), std::runtime_error);
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ struct ReportOptions {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench accuracy: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_bench accuracy [--scene FILE.obj|.ply|.glb|.gltf]... [--runs N] [--rays-per-case N] [--out DIR]\n"
+               "usage: obvh_bench accuracy [--scene FILE.obj|.ply|.stl|.glb|.gltf]... [--runs N] [--rays-per-case N] [--out DIR]\n"
                "  Per accuracy mode of obvh and of Debian's Embree: Mrays/s on each scene (default: the bunny)\n"
                "  and the error rates of the accuracy study; writes DIR/accuracy.csv and DIR/accuracy.png.\n");
   std::exit(error.empty() ? 0 : 2);

@@ -50,7 +50,7 @@ struct Options {
 [[noreturn]] void usage(const char* error) {
   if (error) std::fprintf(stderr, "obvh_bench: %s\n\n", error);
   std::fprintf(stderr,
-               "usage: obvh_bench [--scene FILE.obj|.ply|.glb|.gltf] [--width W] [--height H] [--runs N] [--random-rays N] "
+               "usage: obvh_bench [--scene FILE.obj|.ply|.stl|.glb|.gltf] [--width W] [--height H] [--runs N] [--random-rays N] "
                "[--out DIR] [--quality low|medium|high] [--threads N] [--source X,Y,Z]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "       obvh_bench ladder --help     (what a build quality buys in trace speed)\n"

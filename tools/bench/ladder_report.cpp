@@ -40,7 +40,7 @@ std::vector<std::string> splitPair(const std::string& value) {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench ladder: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_bench ladder [--scene FILE.obj|.ply|.glb|.gltf]... [--rounds N] [--threads N] [--random-rays N]\n"
+               "usage: obvh_bench ladder [--scene FILE.obj|.ply|.stl|.glb|.gltf]... [--rounds N] [--threads N] [--random-rays N]\n"
                "                         [--qualities low|medium|high,low|medium|high] [--obvh-configs 'A;B']\n"
                "                         [--obvh-libraries 'A.so;B.so']\n"
                "  Builds each scene with Debian's Embree and with obvh at two qualities (default medium,high),\n"

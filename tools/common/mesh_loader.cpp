@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "ply_reader.h"
+#include "stl_reader.h"
 
 namespace obvh::tools {
 
@@ -43,13 +44,13 @@ SceneData loadMesh(const std::string& path) {
   std::string extension = path.substr(path.find_last_of('.') + 1);
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
   if (extension == "obj") return loadObj(path);
-  if (extension == "ply") {
+  if (extension == "ply" || extension == "stl") {
     SceneData scene;
     scene.name = path.substr(path.find_last_of('/') + 1);
-    scene.meshes.push_back(readPly(path));
+    scene.meshes.push_back(extension == "ply" ? readPly(path) : readStl(path));
     return scene;
   }
-  throw std::runtime_error("cannot load '" + path + "': obvh reads .obj and .ply meshes");
+  throw std::runtime_error("cannot load '" + path + "': obvh reads .obj, .ply and .stl meshes");
 }
 
 }  // namespace obvh::tools

@@ -1,4 +1,4 @@
-// Loads triangle meshes from files (OBJ through tinyobjloader, PLY) into a SceneData.
+// Loads triangle meshes from files (OBJ through tinyobjloader, PLY, STL) into a SceneData.
 #pragma once
 
 #include <string>
@@ -10,7 +10,7 @@ namespace obvh::tools {
 // Throws std::runtime_error with a readable message when the file is missing or malformed.
 SceneData loadObj(const std::string& path);
 
-// Chooses the reader by the file's extension: .obj or .ply.
+// Chooses the reader by the file's extension: .obj, .ply or .stl.
 SceneData loadMesh(const std::string& path);
 
 }  // namespace obvh::tools

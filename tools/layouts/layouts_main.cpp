@@ -39,7 +39,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_layouts: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_layouts [--preset NAME]... [--all-presets] [--scene FILE.obj|.ply|.glb|.gltf]... [--configs A,B,...]\n"
+               "usage: obvh_layouts [--preset NAME]... [--all-presets] [--scene FILE.obj|.ply|.stl|.glb|.gltf]... [--configs A,B,...]\n"
                "                    [--width W] [--height H] [--runs N] [--heatmaps DIR] [--no-embree]\n"
                "  presets: obvh_stackgen --list; configs:");
   for (const LayoutConfig& c : layoutConfigs()) std::fprintf(stderr, " %s", c.name.c_str());

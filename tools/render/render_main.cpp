@@ -45,7 +45,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_render: %s\n\n", error.c_str());
   std::fprintf(stderr,
-               "usage: obvh_render SCENE.gltf|.glb|.obj|.ply [-o OUT.png|.exr] [options]\n"
+               "usage: obvh_render SCENE.gltf|.glb|.obj|.ply|.stl [-o OUT.png|.exr] [options]\n"
                "  --library obvh|embree|system|PATH  which Embree 3 library traces the rays (default obvh;\n"
                "                                     system: the libembree3.so.3 that LD_LIBRARY_PATH finds)\n"
                "  --width W --height H               image size (default 640 x 480)\n"

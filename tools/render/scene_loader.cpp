@@ -46,8 +46,8 @@ RenderScene loadRenderScene(const std::string& path) {
   std::string extension = path.substr(path.find_last_of('.') + 1);
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (extension == "gltf" || extension == "glb") return loadGltfScene(path);
-  if (extension == "obj" || extension == "ply") return meshFileScene(path);
-  throw std::runtime_error("cannot render '" + path + "': obvh_render reads .gltf, .glb, .obj and .ply");
+  if (extension == "obj" || extension == "ply" || extension == "stl") return meshFileScene(path);
+  throw std::runtime_error("cannot render '" + path + "': obvh_render reads .gltf, .glb, .obj, .ply and .stl");
 }
 
 }  // namespace obvh::render

