@@ -312,6 +312,8 @@ int main(int argc, char** argv) {
                               : options.quality == RTC_BUILD_QUALITY_LOW ? "build ms (RTC_BUILD_QUALITY_LOW)"
                                                                          : "build ms";
     printRow(qualityName, runs[0].buildMs, runs[1].buildMs, runs[2].buildMs, true);
+    const auto mprims = [&](double ms) { return double(scene.primitiveCount()) / ms * 1e-3; };
+    printRow("build Mprims/s", mprims(runs[0].buildMs), mprims(runs[1].buildMs), mprims(runs[2].buildMs), false);
     printRow("SAH cost (verbose=2 statistics)", runs[0].sah, runs[1].sah, runs[2].sah, true);
     printRow("build ms, RTC_BUILD_QUALITY_LOW", runs[0].lowBuildMs, runs[1].lowBuildMs, runs[2].lowBuildMs, true);
     printRow("refit ms (RTC_BUILD_QUALITY_REFIT)", runs[0].refitMs, runs[1].refitMs, runs[2].refitMs, true);
