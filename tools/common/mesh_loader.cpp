@@ -40,9 +40,14 @@ SceneData loadObj(const std::string& path) {
   return scene;
 }
 
-SceneData loadMesh(const std::string& path) {
+std::string lowerCaseExtension(const std::string& path) {
   std::string extension = path.substr(path.find_last_of('.') + 1);
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
+SceneData loadMesh(const std::string& path) {
+  const std::string extension = lowerCaseExtension(path);
   if (extension == "obj") return loadObj(path);
   if (extension == "ply" || extension == "stl") {
     SceneData scene;

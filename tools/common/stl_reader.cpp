@@ -17,9 +17,11 @@ class StlMeshBuilder {
 
   [[noreturn]] void fail(const std::string& what) const { throw std::runtime_error("STL '" + path_ + "' " + what); }
 
-  void addVertex(const float p[3], const std::string& where) {
+  // where() says where the vertex is, for the error only.
+  template <typename Where>
+  void addVertex(const float p[3], Where&& where) {
     for (int k = 0; k < 3; ++k)
-      if (!std::isfinite(p[k])) fail("has a non-finite vertex coordinate " + where);
+      if (!std::isfinite(p[k])) fail("has a non-finite vertex coordinate " + where());
     uint32_t bits[3];
     std::memcpy(bits, p, sizeof bits);
     const Key key{bits[0], bits[1], bits[2]};
@@ -55,7 +57,7 @@ MeshData readBinary(const std::string& bytes, uint32_t facets, StlMeshBuilder& b
     for (int v = 0; v < 3; ++v) {
       float p[3];
       std::memcpy(p, facet + 12 * (v + 1), sizeof p);  // after the facet normal
-      builder.addVertex(p, "in facet " + std::to_string(f));
+      builder.addVertex(p, [f] { return "in facet " + std::to_string(f); });
     }
   }
   return builder.finish();
@@ -70,22 +72,22 @@ MeshData readAscii(const std::string& text, StlMeshBuilder& builder) {
     std::istringstream words(line);
     std::string keyword;
     if (!(words >> keyword)) continue;
-    const std::string where = "on line " + std::to_string(lineNumber);
+    const auto where = [lineNumber] { return "on line " + std::to_string(lineNumber); };
     if (keyword == "facet") {
-      if (verticesInFacet >= 0) builder.fail("starts a facet inside another " + where);
+      if (verticesInFacet >= 0) builder.fail("starts a facet inside another " + where());
       verticesInFacet = 0;
     } else if (keyword == "vertex") {
-      if (verticesInFacet < 0) builder.fail("has a vertex outside a facet " + where);
+      if (verticesInFacet < 0) builder.fail("has a vertex outside a facet " + where());
       float p[3];
       std::string rest;
-      if (!(words >> p[0] >> p[1] >> p[2]) || (words >> rest)) builder.fail("has a bad vertex line " + where + ": " + line);
-      if (++verticesInFacet > 3) builder.fail("has a facet with more than three vertices " + where);
+      if (!(words >> p[0] >> p[1] >> p[2]) || (words >> rest)) builder.fail("has a bad vertex line " + where() + ": " + line);
+      if (++verticesInFacet > 3) builder.fail("has a facet with more than three vertices " + where());
       builder.addVertex(p, where);
     } else if (keyword == "endfacet") {
-      if (verticesInFacet != 3) builder.fail("has a facet without three vertices, ending " + where);
+      if (verticesInFacet != 3) builder.fail("has a facet without three vertices, ending " + where());
       verticesInFacet = -1;
     } else if (keyword != "solid" && keyword != "endsolid" && keyword != "outer" && keyword != "endloop") {
-      builder.fail("has an unknown keyword '" + keyword + "' " + where);
+      builder.fail("has an unknown keyword '" + keyword + "' " + where());
     }
   }
   if (verticesInFacet >= 0) builder.fail("ends inside a facet");

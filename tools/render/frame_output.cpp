@@ -3,10 +3,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include "mesh_loader.h"
 
 namespace obvh::render {
 
@@ -18,8 +19,7 @@ unsigned char displayValue(float linear, float exposure) {
 }
 
 void writeFrame(const std::string& path, const Frame& frame, float exposure) {
-  std::string extension = path.substr(path.find_last_of('.') + 1);
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string extension = tools::lowerCaseExtension(path);
   const bool linear = extension == "exr" || extension == "hdr";
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw std::runtime_error("cannot write image '" + path + "': " + OIIO::geterror());

@@ -1,7 +1,5 @@
 #include "scene_loader.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -43,8 +41,7 @@ RenderScene meshFileScene(const std::string& path) {
 }  // namespace
 
 RenderScene loadRenderScene(const std::string& path) {
-  std::string extension = path.substr(path.find_last_of('.') + 1);
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string extension = tools::lowerCaseExtension(path);
   if (extension == "gltf" || extension == "glb") return loadGltfScene(path);
   if (extension == "obj" || extension == "ply" || extension == "stl") return meshFileScene(path);
   throw std::runtime_error("cannot render '" + path + "': obvh_render reads .gltf, .glb, .obj, .ply and .stl");

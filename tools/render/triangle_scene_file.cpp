@@ -1,7 +1,5 @@
 #include "triangle_scene_file.h"
 
-#include <algorithm>
-#include <cctype>
 #include <stdexcept>
 
 #include "mesh_loader.h"
@@ -9,18 +7,9 @@
 #include "scene_loader.h"
 
 namespace obvh::render {
-namespace {
-
-std::string lowerCaseExtension(const std::string& path) {
-  std::string extension = path.substr(path.find_last_of('.') + 1);
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return extension;
-}
-
-}  // namespace
 
 tools::SceneData loadTriangleScene(const std::string& path) {
-  const std::string extension = lowerCaseExtension(path);
+  const std::string extension = tools::lowerCaseExtension(path);
   if (extension != "gltf" && extension != "glb") return tools::loadMesh(path);
   const RenderScene scene = loadGltfScene(path);
   const ScenePose pose = poseAt(scene, 0.f);
