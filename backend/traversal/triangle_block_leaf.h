@@ -1,7 +1,8 @@
 // Testing a leaf stored as TriangleBlock4 groups: the watertight edge functions of four triangles in
 // one SIMD pass, then the scalar second half (triangle_leaf.h) for the few lanes that pass, in lane
-// order. Lane order and the shared second half make the answers bit-identical to testing the
-// triangles one by one (the scalar FloatScalar<4> instantiation is the reference).
+// order (the fast mode's Moeller-Trumbore test runs whole in SIMD). Lane order and the same
+// operations per lane make the answers bit-identical to testing the triangles one by one (the
+// scalar FloatScalar<4> instantiation is the reference).
 // The block tests are always inlined into the traversal that calls them: they are then compiled for
 // that kernel's instruction set (VEX-encoded in the AVX2 kernels), not taken from the one baseline
 // copy the linker keeps of an instantiation every kernel shares.
@@ -121,11 +122,18 @@ template <typename F4>
   return c;
 }
 
-// Lanes whose Moeller-Trumbore edge tests pass (intersect/moeller_triangle.h, the same operations
-// lane by lane); the distance test, which depends on tfar as it shrinks lane by lane, stays scalar.
-// Multiplying by the sign of den is written as the two sign cases, which is exact.
+// A block's four triangles through the whole Moeller-Trumbore test (intersect/moeller_triangle.h,
+// the same operations lane by lane): the lanes that hit within the segment as it stood when the
+// block was entered, with their answers. The scalar test scales by sgn = sign(den) and divides by
+// |den|; rounding is symmetric in sign, so T / den and U / den as computed here are the same floats,
+// and the distance test is written as its two sign cases, which is exact.
+struct MoellerBlockHits {
+  int lanes = 0;
+  alignas(16) float T[4], den[4], t[4], u[4], v[4];  // T and den unsigned: dot(Ng, C), dot(Ng, dir)
+};
+
 template <typename F4>
-[[gnu::always_inline]] inline int moellerBlockCandidates(const TriangleBlock4& block, const Ray& ray) {
+[[gnu::always_inline]] inline MoellerBlockHits moellerBlockHits(const TriangleBlock4& block, const Ray& ray) {
   F4 v[3][3];
   for (int vertex = 0; vertex < 3; ++vertex)
     for (int axis = 0; axis < 3; ++axis) v[vertex][axis] = F4::load(block.v[vertex][axis]);
@@ -150,7 +158,21 @@ template <typename F4>
   const F4 zero = F4::broadcast(0.f);
   const int positive = lessMask(zero, den) & lessEqualMask(zero, U) & lessEqualMask(zero, V) & lessEqualMask(sum, den);
   const int negative = lessMask(den, zero) & lessEqualMask(U, zero) & lessEqualMask(V, zero) & lessEqualMask(den, sum);
-  return (positive | negative) & block.usedLanes();
+  MoellerBlockHits hits;
+  if (((positive | negative) & block.usedLanes()) == 0) return hits;
+  const F4 T = dot(Ng, C);
+  const F4 nearLimit = den * F4::broadcast(ray.tnear), farLimit = den * F4::broadcast(ray.tfar);
+  const int inPositive = lessMask(nearLimit, T) & lessEqualMask(T, farLimit);
+  const int inNegative = lessMask(T, nearLimit) & lessEqualMask(farLimit, T);
+  hits.lanes = ((positive & inPositive) | (negative & inNegative)) & block.usedLanes();
+  if (hits.lanes == 0) return hits;
+  const F4 rcpDen = F4::broadcast(1.f) / den;
+  T.store(hits.T);
+  den.store(hits.den);
+  (T * rcpDen).store(hits.t);
+  (U * rcpDen).store(hits.u);
+  (V * rcpDen).store(hits.v);
+  return hits;
 }
 
 // A hit on lane `lane` of a block, read from the block's lanes: copying the lane out as a
@@ -161,18 +183,19 @@ inline Hit makeBlockHit(const TriangleBlock4& block, int lane, const TriangleHit
 }
 
 // Visits each candidate lane of the block in lane order with its triangle test result;
-// visit(lane, th) returns true to stop. Fast mode tests every used lane with Moeller-Trumbore.
+// visit(lane, th) returns true to stop.
 template <typename F4, typename Visit>
 [[gnu::always_inline]] inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
                            const Ray& ray, Visit&& visit) {
   if (set.fast) {
-    for (int lanes = moellerBlockCandidates<F4>(block, ray); lanes; lanes &= lanes - 1) {
+    const MoellerBlockHits hits = moellerBlockHits<F4>(block, ray);
+    for (int lanes = hits.lanes; lanes; lanes &= lanes - 1) {
       const int lane = __builtin_ctz(unsigned(lanes));
       if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
-      TriangleHit th;
-      if (intersectMoeller(ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th) &&
-          visit(lane, th))
-        return true;
+      // The scalar test's T <= |den| * tfar against tfar as an earlier lane may have shrunk it.
+      const float den = hits.den[lane], T = hits.T[lane], farLimit = den * ray.tfar;
+      if (!(den > 0.f ? T <= farLimit : farLimit <= T)) continue;
+      if (visit(lane, TriangleHit{hits.t[lane], hits.u[lane], hits.v[lane]})) return true;
     }
     return false;
   }

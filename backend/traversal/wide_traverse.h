@@ -224,12 +224,13 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
 
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  // The triangle test's constants (three divisions) only for rays that reach a leaf.
+  // The watertight test's constants (three divisions) only for rays that reach a leaf; the fast
+  // mode's Moeller-Trumbore test needs none.
   WatertightRay wr;
   bool prepared = false;
   bool found = false;
   traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared) wr = WatertightRay(ray), prepared = true;
+    if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
     found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
   }, state.counters);
@@ -242,7 +243,7 @@ bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ra
   bool prepared = false;
   bool found = false;
   traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared) wr = WatertightRay(ray), prepared = true;
+    if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
     found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
     return found;
   }, state.counters);

@@ -184,7 +184,7 @@ TEST(WideBvh, KernelsMatchTheBinaryTreeOnATriangleSoup) {
   const test::MeshData soup = test::randomTriangleSoup(5000, 2);
   expectKernelsMatchBinaryTree<4>(soup, 6, false, 3, 3000);
   expectKernelsMatchBinaryTree<8>(soup, 6, false, 3, 3000);
-  expectKernelsMatchBinaryTree<4>(soup, 3, true, 4, 3000);  // intersector=fast: SIMD Moeller edge tests
+  expectKernelsMatchBinaryTree<4>(soup, 3, true, 4, 3000);  // intersector=fast: Moeller-Trumbore in SIMD
   expectKernelsMatchBinaryTree<8>(soup, 3, true, 4, 3000);
 }
 
@@ -193,6 +193,8 @@ TEST(WideBvh, KernelsMatchTheBinaryTreeOnSharedEdges) {
   const test::MeshData grid = test::quadGrid(40, 0.3f, 4);
   expectKernelsMatchBinaryTree<4>(grid, 4, false, 5, 1000);
   expectKernelsMatchBinaryTree<8>(grid, 4, false, 5, 1000);
+  expectKernelsMatchBinaryTree<4>(grid, 4, true, 6, 1000);
+  expectKernelsMatchBinaryTree<8>(grid, 4, true, 6, 1000);
 }
 
 // Denormal direction components overflow 1/dir; the binary tree's box test rounds those slabs
