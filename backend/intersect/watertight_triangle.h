@@ -40,47 +40,81 @@ struct TriangleHit {
   float t, u, v;
 };
 
+// The ray's hit on the plane of (v0, v1, v2) in double precision, from the triangle's own edges
+// (Moeller-Trumbore's formulas): det == 0 for a degenerate triangle, else t and the weights u, v
+// of v1 and v2. D is double, or four lanes of double (simd/double_lanes.h) for four triangles at
+// once, each lane computing exactly what the scalar version computes.
+template <typename D>
+struct DoublePlaneHit {
+  D det, t, u, v;
+};
+
+template <typename D>
+inline D broadcastDouble(double x) {
+  return D::broadcast(x);
+}
+template <>
+inline double broadcastDouble<double>(double x) {
+  return x;
+}
+
+template <typename D>
+[[gnu::always_inline]] inline DoublePlaneHit<D> planeHitInDouble(const D org[3], const D dir[3], const D v0[3],
+                                                                 const D v1[3], const D v2[3]) {
+  D e1[3], e2[3], s[3];
+  for (int a = 0; a < 3; ++a) {
+    e1[a] = v1[a] - v0[a];
+    e2[a] = v2[a] - v0[a];
+    s[a] = org[a] - v0[a];
+  }
+  const D p[3] = {dir[1] * e2[2] - dir[2] * e2[1], dir[2] * e2[0] - dir[0] * e2[2], dir[0] * e2[1] - dir[1] * e2[0]};
+  const D q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
+  DoublePlaneHit<D> h;
+  h.det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+  const D rcpDet = broadcastDouble<D>(1.0) / h.det;
+  h.t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * rcpDet;
+  h.u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * rcpDet;
+  h.v = (dir[0] * q[0] + dir[1] * q[1] + dir[2] * q[2]) * rcpDet;
+  return h;
+}
+
+// A degenerate triangle (zero edge determinant) that passed the edge functions: the sheared
+// frame's values are kept rather than the hit dropped.
+template <typename Vertex>
+inline bool resolveDegenerateHit(const WatertightRay& wr, const Ray& ray, Vertex&& vertex, float U, float V, float W,
+                                 TriangleHit& out) {
+  const float Az = wr.Sz * (vertex(0, wr.kz) - wr.org[wr.kz]);
+  const float Bz = wr.Sz * (vertex(1, wr.kz) - wr.org[wr.kz]);
+  const float Cz = wr.Sz * (vertex(2, wr.kz) - wr.org[wr.kz]);
+  const float rcpDet = 1.f / (U + V + W);
+  const float t = (U * Az + V * Bz + W * Cz) * rcpDet;
+  if (!(t > ray.tnear && t <= ray.tfar)) return false;
+  // U weighs v0, V weighs v1 and W weighs v2; Embree's u and v are the weights of v1 and v2.
+  out = {t, V * rcpDet, W * rcpDet};
+  return true;
+}
+
 // Second half of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared
-// frame, no mixed signs) are known: rejects det == 0 and computes t, u, v. Split out so that SIMD
-// kernels that evaluate the edge functions of several triangles at once share it. vertex(k, axis)
-// returns a coordinate of v0, v1 or v2 as a float; the SIMD kernels read it straight from a lane
-// of their triangle block (a copied-out triangle stayed alive across this function, spilled).
+// frame, no mixed signs) are known: rejects det == 0 and computes t, u, v. vertex(k, axis) returns
+// a coordinate of v0, v1 or v2 as a float; the SIMD kernels read it straight from a lane of their
+// triangle block (a copied-out triangle stayed alive across this function, spilled).
+// The edge functions decide whether the ray hits (that is what makes the test watertight), but in
+// single precision the shear loses accuracy for small triangles far from the ray origin and for
+// grazing rays. Distance and barycentrics of an accepted candidate are therefore computed in
+// double precision from the triangle's own edges (per accepted candidate, not per test).
 template <typename Vertex>
 [[gnu::always_inline]] inline bool resolveWatertightHitOf(const WatertightRay& wr, const Ray& ray, Vertex&& vertex,
                                                           float U, float V, float W, TriangleHit& out) {
-  const float det = U + V + W;
-  if (!(det != 0.f)) return false;  // also rejects NaN
-
-  // The edge functions decide whether the ray hits (that is what makes the test watertight), but
-  // in single precision the shear loses accuracy for small triangles far from the ray origin and
-  // for grazing rays. Distance and barycentrics of an accepted candidate are therefore recomputed
-  // in double precision from the triangle's own edges; this costs a few operations per accepted
-  // candidate, not per test.
-  const double ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
-  const double dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
-  const double v0x = vertex(0, 0), v0y = vertex(0, 1), v0z = vertex(0, 2);
-  const double e1x = double(vertex(1, 0)) - v0x, e1y = double(vertex(1, 1)) - v0y, e1z = double(vertex(1, 2)) - v0z;
-  const double e2x = double(vertex(2, 0)) - v0x, e2y = double(vertex(2, 1)) - v0y, e2z = double(vertex(2, 2)) - v0z;
-  const double sx = ox - v0x, sy = oy - v0y, sz = oz - v0z;
-  const double px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
-  const double edgeDet = e1x * px + e1y * py + e1z * pz;
-  if (edgeDet == 0.0) {
-    // Only a degenerate triangle gets here; keep the sheared values rather than drop the hit.
-    const float Az = wr.Sz * (vertex(0, wr.kz) - wr.org[wr.kz]);
-    const float Bz = wr.Sz * (vertex(1, wr.kz) - wr.org[wr.kz]);
-    const float Cz = wr.Sz * (vertex(2, wr.kz) - wr.org[wr.kz]);
-    const float rcpDet = 1.f / det;
-    const float t = (U * Az + V * Bz + W * Cz) * rcpDet;
-    if (!(t > ray.tnear && t <= ray.tfar)) return false;
-    // U weighs v0, V weighs v1 and W weighs v2; Embree's u and v are the weights of v1 and v2.
-    out = {t, V * rcpDet, W * rcpDet};
-    return true;
-  }
-  const double qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
-  const double rcpEdgeDet = 1.0 / edgeDet;
-  const float t = float((e2x * qx + e2y * qy + e2z * qz) * rcpEdgeDet);
+  if (!(U + V + W != 0.f)) return false;  // also rejects NaN
+  const double org[3] = {ray.org.x, ray.org.y, ray.org.z}, dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+  double v[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) v[k][a] = vertex(k, a);
+  const DoublePlaneHit<double> h = planeHitInDouble(org, dir, v[0], v[1], v[2]);
+  if (h.det == 0.0) return resolveDegenerateHit(wr, ray, vertex, U, V, W, out);
+  const float t = float(h.t);
   if (!(t > ray.tnear && t <= ray.tfar)) return false;
-  out = {t, float((sx * px + sy * py + sz * pz) * rcpEdgeDet), float((dx * qx + dy * qy + dz * qz) * rcpEdgeDet)};
+  out = {t, float(h.u), float(h.v)};
   return true;
 }
 

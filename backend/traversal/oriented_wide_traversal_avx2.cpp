@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "simd/double_lanes.h"
 #include "simd/float4_sse.h"
 #include "traversal/box_test.h"
 #include "traversal/oriented_box_test.h"
@@ -12,6 +13,7 @@
 #pragma GCC push_options
 #pragma GCC target("avx2")
 
+#include "simd/double4_avx.h"
 #include "simd/float8_avx.h"
 #include "traversal/oriented_wide_traverse.h"
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bvh/oriented_wide_bvh.h"
+#include "simd/double_lanes.h"
 #include "traversal/box_test.h"
 #include "traversal/oriented_box_test.h"
 #include "traversal/oriented_wide_traversal.h"
@@ -115,7 +116,7 @@ bool intersectClosestOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>
   const TriangleBlock4* blocks = view.bvh->blocks.data();
   bool found = false;
   traverseOrientedWide<FN, true>(*view.bvh, ray, counters, [&](uint32_t firstBlock, uint32_t blockCount) {
-    found |= intersectBlocksClosest<F4>(view.set, blocks, firstBlock, blockCount, wr, ray, hit, state);
+    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
   });
   return found;
@@ -128,7 +129,7 @@ bool intersectAnyOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& vi
   const TriangleBlock4* blocks = view.bvh->blocks.data();
   bool found = false;
   traverseOrientedWide<FN, false>(*view.bvh, ray, counters, [&](uint32_t firstBlock, uint32_t blockCount) {
-    found = intersectBlocksAny<F4>(view.set, blocks, firstBlock, blockCount, wr, ray, state);
+    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, blocks, firstBlock, blockCount, wr, ray, state);
     return found;
   });
   return found;

@@ -1,6 +1,7 @@
 // Testing a leaf stored as TriangleBlock4 groups: the watertight edge functions of four triangles in
-// one SIMD pass, then the scalar second half (triangle_leaf.h) for the few lanes that pass, in lane
-// order (the fast mode's Moeller-Trumbore test runs whole in SIMD). Lane order and the same
+// one SIMD pass, then, when a lane passes, the double-precision second half in lanes of double
+// (D4), and the lanes' answers visited in lane order (the fast mode's Moeller-Trumbore test runs
+// whole in SIMD). Lane order and the same
 // operations per lane make the answers bit-identical to testing the triangles one by one (the
 // scalar FloatScalar<4> instantiation is the reference).
 // The block tests are always inlined into the traversal that calls them: they are then compiled for
@@ -175,6 +176,44 @@ template <typename F4>
   return hits;
 }
 
+// The double-precision second half of the watertight test (planeHitInDouble) for the block's four
+// triangles at once, in lanes of D4 (simd/double_lanes.h): each lane's t, u, v are the floats the
+// scalar test computes for that triangle. One pass costs about half of one scalar pass.
+struct BlockPlaneHits {
+  int degenerate = 0;  // lanes whose edge determinant is zero
+  alignas(16) float t[4], u[4], v[4];
+};
+
+template <typename D4>
+[[gnu::always_inline]] inline BlockPlaneHits blockPlaneHits(const TriangleBlock4& block, const Ray& ray) {
+  D4 org[3], dir[3], vertex[3][3];
+  for (int a = 0; a < 3; ++a) {
+    org[a] = D4::broadcast(ray.org[a]);
+    dir[a] = D4::broadcast(ray.dir[a]);
+    for (int k = 0; k < 3; ++k) vertex[k][a] = D4::widen(block.v[k][a]);
+  }
+  const DoublePlaneHit<D4> h = planeHitInDouble(org, dir, vertex[0], vertex[1], vertex[2]);
+  BlockPlaneHits hits;
+  hits.degenerate = zeroMask(h.det);
+  h.t.narrow(hits.t);
+  h.u.narrow(hits.u);
+  h.v.narrow(hits.v);
+  return hits;
+}
+
+// resolveWatertightHitOf for lane `lane`, its plane hit already computed with the block's.
+inline bool resolveBlockLane(const TriangleBlock4& block, int lane, const BlockCandidates& c,
+                             const BlockPlaneHits& plane, const WatertightRay& wr, const Ray& ray, TriangleHit& out) {
+  const float U = c.U[lane], V = c.V[lane], W = c.W[lane];
+  if (!(U + V + W != 0.f)) return false;  // also rejects NaN
+  if ((plane.degenerate >> lane) & 1)
+    return resolveDegenerateHit(wr, ray, [&](int k, int axis) { return block.v[k][axis][lane]; }, U, V, W, out);
+  const float t = plane.t[lane];
+  if (!(t > ray.tnear && t <= ray.tfar)) return false;
+  out = {t, plane.u[lane], plane.v[lane]};
+  return true;
+}
+
 // A hit on lane `lane` of a block, read from the block's lanes: copying the lane out as a
 // StoredTriangle first kept it alive across the double-precision test, in spilled registers.
 inline Hit makeBlockHit(const TriangleBlock4& block, int lane, const TriangleHit& th, uint32_t instID) {
@@ -184,7 +223,7 @@ inline Hit makeBlockHit(const TriangleBlock4& block, int lane, const TriangleHit
 
 // Visits each candidate lane of the block in lane order with its triangle test result;
 // visit(lane, th) returns true to stop.
-template <typename F4, typename Visit>
+template <typename F4, typename D4, typename Visit>
 [[gnu::always_inline]] inline bool visitBlockHits(const TriangleSet& set, const TriangleBlock4& block, const WatertightRay& wr,
                            const Ray& ray, Visit&& visit) {
   if (set.fast) {
@@ -200,6 +239,8 @@ template <typename F4, typename Visit>
     return false;
   }
   const BlockCandidates c = watertightBlockCandidates<F4>(block, wr, ray.tnear, ray.tfar);
+  BlockPlaneHits plane;
+  if (c.resolve) plane = blockPlaneHits<D4>(block, ray);
   int lanes = c.resolve | c.recheck;
   while (lanes) {
     const int lane = __builtin_ctz(unsigned(lanes));
@@ -209,22 +250,21 @@ template <typename F4, typename Visit>
     const bool hit =
         (c.recheck >> lane) & 1
             ? intersectWatertight(wr, ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th)
-            : resolveWatertightHitOf(
-                  wr, ray, [&](int k, int axis) { return block.v[k][axis][lane]; }, c.U[lane], c.V[lane], c.W[lane], th);
+            : resolveBlockLane(block, lane, c, plane, wr, ray, th);
     if (hit && visit(lane, th)) return true;
   }
   return false;
 }
 
 // Closest-hit test of blockCount blocks from firstBlock; shrinks ray.tfar on accepted hits.
-template <typename F4>
+template <typename F4, typename D4>
 [[gnu::always_inline]] inline bool intersectBlocksClosest(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                    uint32_t blockCount, const WatertightRay& wr, Ray& ray, Hit& hit,
                                    const QueryState& state) {
   bool found = false;
   for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
     const TriangleBlock4& block = blocks[b];
-    visitBlockHits<F4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
+    visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
       if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
           !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, false))
         return false;
@@ -238,12 +278,12 @@ template <typename F4>
 }
 
 // True when any triangle of the blocks blocks the ray (and the filters accept it).
-template <typename F4>
+template <typename F4, typename D4>
 [[gnu::always_inline]] inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                uint32_t blockCount, const WatertightRay& wr, const Ray& ray, const QueryState& state) {
   for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
     const TriangleBlock4& block = blocks[b];
-    if (visitBlockHits<F4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
+    if (visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
           return !needsFilter(set.occlusionFiltered, block.geomID[lane], state) ||
                  state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, true);
         }))

@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "simd/double_lanes.h"
 #include "simd/float4_sse.h"
 #include "traversal/box_test.h"
 #include "traversal/triangle_block_leaf.h"
@@ -19,6 +20,7 @@
 #pragma GCC push_options
 #pragma GCC target("avx2")
 
+#include "simd/double4_avx.h"
 #include "simd/float8_avx.h"
 #include "traversal/wide_kernels.h"
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "simd/double_lanes.h"
 #include "simd/float4_sse.h"
 #include "traversal/box_test.h"
 #include "traversal/triangle_block_leaf.h"

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "math/float_steps.h"
+#include "simd/double_lanes.h"
 #include "traversal/box_test.h"
 #include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
@@ -231,7 +232,7 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
   bool found = false;
   traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
-    found |= intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
+    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
     return false;
   }, state.counters);
   return found;
@@ -244,7 +245,7 @@ bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ra
   bool found = false;
   traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
-    found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
+    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
     return found;
   }, state.counters);
   return found;

@@ -328,7 +328,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
   const auto closestAlone = [&](uint32_t start, int r) {
     const WideRayFrame<FN> frame(rays[r]);
     traverseWideFrom<FN, true>(bvh, start, frame, rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
-      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+      if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
                                      hits[r], state))
         found |= 1u << r;
       return false;
@@ -342,7 +342,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     }
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
-      if (intersectBlocksClosest<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+      if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
                                      hits[r], state))
         found |= 1u << r;
     }
@@ -365,7 +365,7 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     bool found = false;
     const WideRayFrame<FN> frame(rays[r]);
     traverseWideFrom<FN, false>(bvh, start, frame, rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
-      found = intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+      found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
                                      state);
       return found;
     });
@@ -379,7 +379,7 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     } else {
       for (; mask; mask &= mask - 1) {
         const int r = __builtin_ctz(mask);
-        if (intersectBlocksAny<F4>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
+        if (intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
                                    state))
           finished |= 1u << r;
       }
