@@ -108,6 +108,14 @@ struct Bins {
   }
 };
 
+// The calling thread's scratch bins. Not inlined on purpose: with the thread_local's address
+// visible, GCC recomputed it (a __tls_get_addr call, in the shared library) for every primitive
+// binned, spilling the loop's registers around the call, instead of keeping it in a register.
+[[gnu::noinline]] Bins& threadScratchBins() {
+  static thread_local Bins scratch;
+  return scratch;
+}
+
 // Maps a centroid to its bin on each axis; binning and partitioning use this one computation, so
 // a primitive always lands on the side its bin was counted on.
 struct BinMapping {
@@ -206,7 +214,7 @@ class BinnedSahBuilder {
   const Bins& binAll(size_t begin, size_t end, const BinMapping& mapping, std::unique_ptr<Bins>& large) const {
     const int binCount = mapping.binCount;
     if (end - begin < kParallelBinningThreshold) {
-      static thread_local Bins scratch;
+      Bins& scratch = threadScratchBins();
       scratch.reset(binCount);
       binRange(begin, end, mapping, scratch);
       return scratch;
@@ -261,17 +269,27 @@ class BinnedSahBuilder {
 
   // Partitions [begin, end) by goesLeft and measures both sides on the way, which saves the
   // children a separate pass over their primitives. Returns the first index of the right side.
+  // The measures accumulate in locals, which stay in registers (accumulated through the
+  // references, they were stored and reloaded at every primitive), and a swapped pair is measured
+  // from the values just loaded rather than reloaded from where they were stored.
   template <typename GoesLeft>
   size_t partitionMeasuring(size_t begin, size_t end, GoesLeft&& goesLeft, RangeInfo& left, RangeInfo& right) {
+    PrimRef* refs = refs_.data();
+    RangeInfo l = left, r = right;
     size_t i = begin, j = end;
     for (;;) {
-      while (i < j && goesLeft(refs_[i])) left.add(refs_[i++]);
-      while (i < j && !goesLeft(refs_[j - 1])) right.add(refs_[--j]);
-      if (i >= j) return i;
-      std::swap(refs_[i], refs_[j - 1]);
-      left.add(refs_[i++]);
-      right.add(refs_[--j]);
+      while (i < j && goesLeft(refs[i])) l.add(refs[i++]);
+      while (i < j && !goesLeft(refs[j - 1])) r.add(refs[--j]);
+      if (i >= j) break;
+      const PrimRef goingRight = refs[i], goingLeft = refs[j - 1];
+      refs[i++] = goingLeft;
+      refs[--j] = goingRight;
+      l.add(goingLeft);
+      r.add(goingRight);
     }
+    left = l;
+    right = r;
+    return i;
   }
 
   void makeLeaf(uint32_t nodeIndex, size_t begin, size_t end, const Box3f& bounds) {
