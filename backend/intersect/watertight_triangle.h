@@ -94,10 +94,23 @@ inline bool resolveDegenerateHit(const WatertightRay& wr, const Ray& ray, Vertex
   return true;
 }
 
-// Second half of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared
-// frame, no mixed signs) are known: rejects det == 0 and computes t, u, v. vertex(k, axis) returns
-// a coordinate of v0, v1 or v2 as a float; the SIMD kernels read it straight from a lane of their
-// triangle block (a copied-out triangle stayed alive across this function, spilled).
+// The end of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared frame,
+// no mixed signs) and the plane hit in double precision (t, u, v rounded to float; `degenerate`
+// when its determinant is zero) are known: rejects det == 0 and a distance outside the segment.
+// The SIMD kernels compute the plane hits of a block's four triangles at once and end each lane here.
+template <typename Vertex>
+[[gnu::always_inline]] inline bool finishWatertightHit(const WatertightRay& wr, const Ray& ray, Vertex&& vertex,
+                                                       float U, float V, float W, bool degenerate, float t, float u,
+                                                       float v, TriangleHit& out) {
+  if (!(U + V + W != 0.f)) return false;  // also rejects NaN
+  if (degenerate) return resolveDegenerateHit(wr, ray, vertex, U, V, W, out);
+  if (!(t > ray.tnear && t <= ray.tfar)) return false;
+  out = {t, u, v};
+  return true;
+}
+
+// Second half of the test for one triangle. vertex(k, axis) returns a coordinate of v0, v1 or v2
+// as a float.
 // The edge functions decide whether the ray hits (that is what makes the test watertight), but in
 // single precision the shear loses accuracy for small triangles far from the ray origin and for
 // grazing rays. Distance and barycentrics of an accepted candidate are therefore computed in
@@ -105,17 +118,12 @@ inline bool resolveDegenerateHit(const WatertightRay& wr, const Ray& ray, Vertex
 template <typename Vertex>
 [[gnu::always_inline]] inline bool resolveWatertightHitOf(const WatertightRay& wr, const Ray& ray, Vertex&& vertex,
                                                           float U, float V, float W, TriangleHit& out) {
-  if (!(U + V + W != 0.f)) return false;  // also rejects NaN
   const double org[3] = {ray.org.x, ray.org.y, ray.org.z}, dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
   double v[3][3];
   for (int k = 0; k < 3; ++k)
     for (int a = 0; a < 3; ++a) v[k][a] = vertex(k, a);
   const DoublePlaneHit<double> h = planeHitInDouble(org, dir, v[0], v[1], v[2]);
-  if (h.det == 0.0) return resolveDegenerateHit(wr, ray, vertex, U, V, W, out);
-  const float t = float(h.t);
-  if (!(t > ray.tnear && t <= ray.tfar)) return false;
-  out = {t, float(h.u), float(h.v)};
-  return true;
+  return finishWatertightHit(wr, ray, vertex, U, V, W, h.det == 0.0, float(h.t), float(h.u), float(h.v), out);
 }
 
 inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
