@@ -12,8 +12,8 @@
 #include "traversal/box_test.h"
 #include "traversal/oriented_box_test.h"
 #include "traversal/oriented_wide_traversal.h"
-#include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
+#include "traversal/wide_walk.h"
 
 namespace obvh {
 
@@ -57,82 +57,75 @@ template <typename FN>
   return lessEqualMask(nearT, farT) & node.usedMask;
 }
 
-// leafVisitor(firstBlock, blockCount) returns true to stop. Closest-hit queries visit children near
-// to far and skip pending ones entered beyond the (shrinking) tfar.
-template <typename FN, bool kNearToFar, typename LeafVisitor>
-void traverseOrientedWide(const OrientedWideBvh<FN::kWidth>& bvh, const Ray& ray, TraversalCounters* counters,
-                          LeafVisitor&& leafVisitor) {
-  constexpr int N = FN::kWidth;
-  using Codes = WideNode<N>;
-  if (bvh.empty()) return;
-  const OrientedWideRay<FN> r(ray);
-  StackEntry stack[(N - 1) * 128];
-  int top = 0;
-  alignas(32) float entry[N];
-  uint32_t current = bvh.rootChild;
-  for (;;) {
-    bool descended = false;
-    if (Codes::isLeaf(current)) {
-      if (counters) ++counters->leafVisits;
-      if (leafVisitor(Codes::leafFirstBlock(current), Codes::leafBlockCount(current))) return;
-    } else {
-      const OrientedWideNode<N>& node = bvh.nodes[current];
-      if (counters)
-        for (int m = node.usedMask; m; m &= m - 1) ++counters->obbTests;
-      int mask = enterOrientedChildren(node, r, ray.tnear, ray.tfar, entry);
-      if (mask) {
-        StackEntry entered[N];
-        int n = 0;
-        for (; mask; mask &= mask - 1) {
-          const int lane = __builtin_ctz(unsigned(mask));
-          const StackEntry e{node.child[lane], entry[lane]};
-          int k = n++;
-          while (kNearToFar && k > 0 && entered[k - 1].t() > e.t()) {
-            entered[k] = entered[k - 1];
-            --k;
-          }
-          entered[k] = e;
-        }
-        for (int k = n - 1; k >= 1; --k) stack[top++] = entered[k];
-        current = entered[0].child();
-        descended = true;
-      }
-    }
-    if (descended) continue;
-    for (;;) {
-      if (top == 0) return;
-      const StackEntry e = stack[--top];
-      if (e.t() > ray.tfar) continue;
-      current = e.child();
-      break;
-    }
+// The oriented layouts' nodes as the shared walk (wide_walk.h) sees them. No prefetch: loading
+// every entered child's node (ten cache lines) early gained nothing on the stack presets.
+template <typename FN>
+struct OrientedWideNodes {
+  const OrientedWideBvh<FN::kWidth>& bvh;
+  const OrientedWideRay<FN>& ray;
+  const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
+    return enterOrientedChildren(bvh.nodes[node], ray, tnear, tfar, entry);
   }
+  void prefetch(uint32_t) const {}
+  void count(uint32_t node, TraversalCounters& counters) const {
+    counters.obbTests += uint64_t(__builtin_popcount(unsigned(bvh.nodes[node].usedMask)));
+  }
+};
+
+// The watertight test's constants (three divisions) only for rays that reach a leaf; the fast
+// mode's Moeller-Trumbore test needs none.
+template <typename FN, typename F4, bool kCounted>
+bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
+                                      const QueryState& state, TraversalCounters* counters) {
+  const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
+  if (bvh.empty()) return false;
+  const OrientedWideRay<FN> r(ray);
+  WatertightRay wr;
+  bool prepared = false;
+  bool found = false;
+  walkWideTree<FN::kWidth, true, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
+                                           [&](uint32_t firstBlock, uint32_t blockCount) {
+    if (!prepared && !view.set.fast) wr = WatertightRay(ray), prepared = true;
+    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
+                                                               wr, ray, hit, state);
+    return false;
+  }, counters);
+  return found;
 }
 
+template <typename FN, typename F4, bool kCounted>
+bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
+                                  const QueryState& state, TraversalCounters* counters) {
+  const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
+  if (bvh.empty()) return false;
+  const OrientedWideRay<FN> r(ray);
+  WatertightRay wr;
+  bool prepared = false;
+  bool found = false;
+  walkWideTree<FN::kWidth, false, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
+                                            [&](uint32_t firstBlock, uint32_t blockCount) {
+    if (!prepared && !view.set.fast) wr = WatertightRay(ray), prepared = true;
+    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount, wr,
+                                                          ray, state);
+    return found;
+  }, counters);
+  return found;
+}
+
+// The uncounted instantiation for the normal query path, the counted one for the layout metrics.
 template <typename FN, typename F4>
 bool intersectClosestOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
                                       const QueryState& state, TraversalCounters* counters) {
-  const WatertightRay wr(ray);
-  const TriangleBlock4* blocks = view.bvh->blocks.data();
-  bool found = false;
-  traverseOrientedWide<FN, true>(*view.bvh, ray, counters, [&](uint32_t firstBlock, uint32_t blockCount) {
-    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, blocks, firstBlock, blockCount, wr, ray, hit, state);
-    return false;
-  });
-  return found;
+  return counters ? closestInOrientedWide<FN, F4, true>(view, ray, hit, state, counters)
+                  : closestInOrientedWide<FN, F4, false>(view, ray, hit, state, nullptr);
 }
 
 template <typename FN, typename F4>
 bool intersectAnyOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
                                   const QueryState& state, TraversalCounters* counters) {
-  const WatertightRay wr(ray);
-  const TriangleBlock4* blocks = view.bvh->blocks.data();
-  bool found = false;
-  traverseOrientedWide<FN, false>(*view.bvh, ray, counters, [&](uint32_t firstBlock, uint32_t blockCount) {
-    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, blocks, firstBlock, blockCount, wr, ray, state);
-    return found;
-  });
-  return found;
+  return counters ? anyInOrientedWide<FN, F4, true>(view, ray, state, counters)
+                  : anyInOrientedWide<FN, F4, false>(view, ray, state, nullptr);
 }
 
 }  // namespace obvh

@@ -8,12 +8,11 @@
 #include <cmath>
 #include <limits>
 
-#include "math/float_steps.h"
 #include "simd/double_lanes.h"
 #include "traversal/box_test.h"
-#include "traversal/stack_entry.h"
 #include "traversal/triangle_block_leaf.h"
 #include "traversal/wide_traversal.h"
+#include "traversal/wide_walk.h"
 
 namespace obvh {
 
@@ -113,101 +112,28 @@ template <typename FN>
   }
 }
 
-// Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
-// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop. kCounted adds box tests
-// and leaf visits to *counters (a separate instantiation, so the normal path pays nothing).
-// traverseWideFrom starts at any node (a packet hands a ray over to it mid-tree); always inlined,
-// so that the frame stays in registers (passed by reference to a call it cost ~15 instructions a ray).
+// The axis-aligned layouts' nodes as the shared walk (wide_walk.h) sees them.
+template <typename FN>
+struct AxisAlignedWideNodes {
+  using Node = WideNode<FN::kWidth>;
+  const TriangleWideView<FN::kWidth>& bvh;
+  const WideRayFrame<FN>& frame;
+  const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
+    return intersectWideNode(bvh.nodes[node], frame, tnear, tfar, entry);
+  }
+  [[gnu::always_inline]] void prefetch(uint32_t child) const { prefetchChild<FN>(bvh, child); }
+  void count(uint32_t, TraversalCounters& counters) const { counters.aabbTests += FN::kWidth; }
+};
+
+// Visits the leaves the ray enters from node start (a packet hands a ray over to it mid-tree);
+// see walkWideTree.
 template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
-  constexpr int N = FN::kWidth;
-  using Node = WideNode<N>;
-  // Once a closest-hit query has a hit (tfar shrank), a box entered exactly at tfar can only add
-  // hits at that same distance: an equally valid answer, not a closer one. Skipping such boxes
-  // matters for rays parallel to flat layers, where many boxes share the entry distance.
-  // Both cases in one bound: boxes entered beyond limit are skipped, and once there is a hit limit
-  // is the float just below tfar (x <= nextafter(t, -inf) exactly when x < t).
-  const float initialTfar = ray.tfar;
-  float limit = ray.tfar;
-  const auto updateLimit = [&] {
-    limit = kNearToFar && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
-  };
-  StackEntry stack[(N - 1) * 128];
-  int top = 0;
-  alignas(32) float entry[N];
-  // The root starts in a register: pushed and popped at once, it cost a store-forwarding stall
-  // (a third of the time of a ray missing the scene before StackEntry existed).
-  if (ray.tnear > limit) return;
-  uint32_t current = start;
-  for (;;) {
-    for (;;) {
-      if (Node::isLeaf(current)) {
-        if constexpr (kCounted) ++counters->leafVisits;
-        if (leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current))) return;
-        updateLimit();
-        break;
-      }
-      const Node& node = bvh.nodes[current];
-      if constexpr (kCounted) counters->aabbTests += N;
-      int mask = intersectWideNode(node, frame, ray.tnear, limit, entry);
-      if (mask == 0) break;
-      if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
-        current = node.child[__builtin_ctz(unsigned(mask))];
-        continue;
-      }
-      if (!kNearToFar) {
-        current = node.child[__builtin_ctz(unsigned(mask))];
-        mask &= mask - 1;
-        while (mask) {
-          const int lane = __builtin_ctz(unsigned(mask));
-          mask &= mask - 1;
-          prefetchChild<FN>(bvh, node.child[lane]);
-          stack[top++] = {node.child[lane], entry[lane]};
-        }
-        continue;
-      }
-      // Two children, the most common case after one: the nearer is visited first (the lower lane
-      // on equal distances, as in the general sort below).
-      const int first = __builtin_ctz(unsigned(mask));
-      const int rest = mask & (mask - 1);
-      if ((rest & (rest - 1)) == 0) {
-        const int second = __builtin_ctz(unsigned(rest));
-        const bool firstNearer = entry[first] <= entry[second];
-        const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
-        prefetchChild<FN>(bvh, node.child[nearLane]);
-        prefetchChild<FN>(bvh, node.child[farLane]);
-        stack[top++] = {node.child[farLane], entry[farLane]};
-        current = node.child[nearLane];
-        continue;
-      }
-      // Gather the entered children sorted by entry distance (insertion sort: few entries).
-      StackEntry hits[N];
-      int n = 0;
-      while (mask) {
-        const int lane = __builtin_ctz(unsigned(mask));
-        mask &= mask - 1;
-        StackEntry h{node.child[lane], entry[lane]};
-        prefetchChild<FN>(bvh, h.child());
-        int k = n++;
-        while (k > 0 && hits[k - 1].t() > h.t()) {
-          hits[k] = hits[k - 1];
-          --k;
-        }
-        hits[k] = h;
-      }
-      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
-      current = hits[0].child();
-    }
-    for (;;) {
-      if (top == 0) return;
-      const StackEntry e = stack[--top];
-      if (e.t() > limit) continue;
-      current = e.child();
-      break;
-    }
-  }
+  walkWideTree<FN::kWidth, kNearToFar, kCounted>(AxisAlignedWideNodes<FN>{bvh, frame}, start, ray, leafVisitor,
+                                                 counters);
 }
 
 template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>

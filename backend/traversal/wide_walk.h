@@ -1,0 +1,118 @@
+// The single-ray walk shared by the wide layouts (axis-aligned: wide_traverse.h; oriented:
+// oriented_wide_traverse.h). Both code their children as WideNode<N> does (node index, leaf of
+// blocks, empty); they differ only in how a node's child volumes are entered, which the layout's
+// Nodes type supplies:
+//   const uint32_t* children(uint32_t node)          the node's child codes
+//   int enter(uint32_t node, float tnear, float tfar, float entry[N])
+//                                                     mask of the entered children, entry distances
+//   void prefetch(uint32_t child)                     start loading a child before it is visited
+//   void count(uint32_t node, TraversalCounters&)     add the node's volume tests
+// Included only by the per-ISA translation units, inside their target region, as its callers are.
+#pragma once
+
+#include <cstdint>
+
+#include "bvh/wide_bvh.h"
+#include "intersect/ray.h"
+#include "math/float_steps.h"
+#include "traversal/stack_entry.h"
+#include "traversal/traversal_counters.h"
+
+namespace obvh {
+
+// Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
+// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop. kCounted adds volume tests
+// and leaf visits to *counters (a separate instantiation, so the normal path pays nothing).
+// Always inlined, so that the ray's per-layout data stays in registers (passed by reference to a
+// call it cost ~15 instructions a ray).
+template <int N, bool kNearToFar, bool kCounted, typename Nodes, typename LeafVisitor>
+[[gnu::always_inline]] inline void walkWideTree(const Nodes& nodes, uint32_t start, const Ray& ray,
+                                                LeafVisitor&& leafVisitor, TraversalCounters* counters) {
+  using Codes = WideNode<N>;
+  // Once a closest-hit query has a hit (tfar shrank), a volume entered exactly at tfar can only add
+  // hits at that same distance: an equally valid answer, not a closer one. Skipping such volumes
+  // matters for rays parallel to flat layers, where many boxes share the entry distance.
+  // Both cases in one bound: volumes entered beyond limit are skipped, and once there is a hit
+  // limit is the float just below tfar (x <= nextafter(t, -inf) exactly when x < t).
+  const float initialTfar = ray.tfar;
+  float limit = ray.tfar;
+  const auto updateLimit = [&] {
+    limit = kNearToFar && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
+  };
+  StackEntry stack[(N - 1) * 128];
+  int top = 0;
+  alignas(32) float entry[N];
+  // The root starts in a register: pushed and popped at once, it cost a store-forwarding stall
+  // (a third of the time of a ray missing the scene before StackEntry existed).
+  if (ray.tnear > limit) return;
+  uint32_t current = start;
+  for (;;) {
+    for (;;) {
+      if (Codes::isLeaf(current)) {
+        if constexpr (kCounted) ++counters->leafVisits;
+        if (leafVisitor(Codes::leafFirstBlock(current), Codes::leafBlockCount(current))) return;
+        updateLimit();
+        break;
+      }
+      if constexpr (kCounted) nodes.count(current, *counters);
+      const uint32_t* child = nodes.children(current);
+      int mask = nodes.enter(current, ray.tnear, limit, entry);
+      if (mask == 0) break;
+      if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
+        current = child[__builtin_ctz(unsigned(mask))];
+        continue;
+      }
+      if (!kNearToFar) {
+        current = child[__builtin_ctz(unsigned(mask))];
+        mask &= mask - 1;
+        while (mask) {
+          const int lane = __builtin_ctz(unsigned(mask));
+          mask &= mask - 1;
+          nodes.prefetch(child[lane]);
+          stack[top++] = {child[lane], entry[lane]};
+        }
+        continue;
+      }
+      // Two children, the most common case after one: the nearer is visited first (the lower lane
+      // on equal distances, as in the general sort below).
+      const int first = __builtin_ctz(unsigned(mask));
+      const int rest = mask & (mask - 1);
+      if ((rest & (rest - 1)) == 0) {
+        const int second = __builtin_ctz(unsigned(rest));
+        const bool firstNearer = entry[first] <= entry[second];
+        const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
+        nodes.prefetch(child[nearLane]);
+        nodes.prefetch(child[farLane]);
+        stack[top++] = {child[farLane], entry[farLane]};
+        current = child[nearLane];
+        continue;
+      }
+      // Gather the entered children sorted by entry distance (insertion sort: few entries).
+      StackEntry hits[N];
+      int n = 0;
+      while (mask) {
+        const int lane = __builtin_ctz(unsigned(mask));
+        mask &= mask - 1;
+        StackEntry h{child[lane], entry[lane]};
+        nodes.prefetch(h.child());
+        int k = n++;
+        while (k > 0 && hits[k - 1].t() > h.t()) {
+          hits[k] = hits[k - 1];
+          --k;
+        }
+        hits[k] = h;
+      }
+      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
+      current = hits[0].child();
+    }
+    for (;;) {
+      if (top == 0) return;
+      const StackEntry e = stack[--top];
+      if (e.t() > limit) continue;
+      current = e.child();
+      break;
+    }
+  }
+}
+
+}  // namespace obvh
