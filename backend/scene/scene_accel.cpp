@@ -424,6 +424,21 @@ bool SceneAccel::occludedObjects(const Ray& ray, const QueryState& state) const 
   return found;
 }
 
+bool SceneAccel::intersectOrientedWideTriangles(Ray& ray, Hit& hit, const QueryState& state,
+                                                TraversalCounters* counters) const {
+  if (!triangleOrientedWideView8_.empty())
+    return intersectClosestOrientedWide(triangleOrientedWideView8_, ray, hit, state, counters);
+  return !triangleOrientedWideView4_.empty() &&
+         intersectClosestOrientedWide(triangleOrientedWideView4_, ray, hit, state, counters);
+}
+
+bool SceneAccel::occludedOrientedWideTriangles(const Ray& ray, const QueryState& state,
+                                               TraversalCounters* counters) const {
+  if (!triangleOrientedWideView8_.empty())
+    return intersectAnyOrientedWide(triangleOrientedWideView8_, ray, state, counters);
+  return !triangleOrientedWideView4_.empty() && intersectAnyOrientedWide(triangleOrientedWideView4_, ray, state, counters);
+}
+
 bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
   // An explicit counters argument (the layout study) counts like state.counters (heatmaps); the
   // normal query path has neither and copies nothing.
@@ -438,10 +453,8 @@ bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, Traversa
     found = intersectWideTriangles(ray, hit, state);
   else if (layout_ == AccelLayout::Bvh2)
     found = !triangleView_.empty() && intersectClosest(triangleView_, ray, hit, state, counters);
-  else if (!triangleOrientedWideView8_.empty())
-    found = intersectClosestOrientedWide(triangleOrientedWideView8_, ray, hit, state, counters);
-  else if (!triangleOrientedWideView4_.empty())
-    found = intersectClosestOrientedWide(triangleOrientedWideView4_, ray, hit, state, counters);
+  else if (orientedWide())
+    found = intersectOrientedWideTriangles(ray, hit, state, counters);
   else
     found = !triangleOrientedView_.empty() && intersectClosestOriented(triangleOrientedView_, ray, hit, state, counters);
   return intersectObjects(ray, hit, state) || found;
@@ -458,10 +471,8 @@ bool SceneAccel::occluded(const Ray& ray, const QueryState& state, TraversalCoun
     if (occludedWideTriangles(ray, state)) return true;
   } else if (layout_ == AccelLayout::Bvh2) {
     if (!triangleView_.empty() && intersectAny(triangleView_, ray, state, counters)) return true;
-  } else if (!triangleOrientedWideView8_.empty()) {
-    if (intersectAnyOrientedWide(triangleOrientedWideView8_, ray, state, counters)) return true;
-  } else if (!triangleOrientedWideView4_.empty()) {
-    if (intersectAnyOrientedWide(triangleOrientedWideView4_, ray, state, counters)) return true;
+  } else if (orientedWide()) {
+    if (occludedOrientedWideTriangles(ray, state, counters)) return true;
   } else if (!triangleOrientedView_.empty() && intersectAnyOriented(triangleOrientedView_, ray, state, counters)) {
     return true;
   }

@@ -50,19 +50,22 @@ class SceneAccel {
   // binary and oriented layouts (accel=bvh2|obb|hybrid), not for the wide ones.
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
-  // Whether the scene is one wide triangle tree and nothing else (no instances, user geometry or
-  // shapes). Its single rays may then skip intersect()'s dispatch and call the two functions below,
-  // inline, which test the wide triangle tree alone (intersect() and occluded() use them too).
+  // Whether the scene is one wide triangle tree (axis-aligned or oriented) and nothing else (no
+  // instances, user geometry or shapes). Its single rays may then skip intersect()'s dispatch and
+  // call the two functions below, inline, which test the wide triangle tree alone (intersect() and
+  // occluded() use them too for the axis-aligned layouts). They count nothing.
   bool wideTrianglesOnly() const {
-    return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4) && objectBvh_.empty();
+    return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4 || orientedWide()) && objectBvh_.empty();
   }
   bool intersectWideTriangles(Ray& ray, Hit& hit, const QueryState& state) const {
     if (layout_ == AccelLayout::Bvh8) return !triangleView8_.empty() && intersectClosestWide(triangleView8_, ray, hit, state);
-    return !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
+    if (layout_ == AccelLayout::Bvh4) return !triangleView4_.empty() && intersectClosestWide(triangleView4_, ray, hit, state);
+    return intersectOrientedWideTriangles(ray, hit, state, nullptr);
   }
   bool occludedWideTriangles(const Ray& ray, const QueryState& state) const {
     if (layout_ == AccelLayout::Bvh8) return !triangleView8_.empty() && intersectAnyWide(triangleView8_, ray, state);
-    return !triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state);
+    if (layout_ == AccelLayout::Bvh4) return !triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state);
+    return occludedOrientedWideTriangles(ray, state, nullptr);
   }
   // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
   // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
@@ -80,6 +83,12 @@ class SceneAccel {
                   float radiusScale = 1.f) const;
 
  private:
+  // The oriented layouts traced four- or eight-wide (obb_width=4|8), whose views may be empty.
+  bool orientedWide() const {
+    return (layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid) && options_.obbWidth > 2;
+  }
+  bool intersectOrientedWideTriangles(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const;
+  bool occludedOrientedWideTriangles(const Ray& ray, const QueryState& state, TraversalCounters* counters) const;
   enum class ObjectKind : uint32_t { Instance, UserPrimitive, Shape };
   struct ObjectRef {
     ObjectKind kind;
