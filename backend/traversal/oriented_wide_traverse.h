@@ -73,22 +73,18 @@ struct OrientedWideNodes {
   }
 };
 
-// The watertight test's constants (three divisions) only for rays that reach a leaf; the fast
-// mode's Moeller-Trumbore test needs none.
 template <typename FN, typename F4, bool kCounted>
 bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
                                       const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   if (bvh.empty()) return false;
   const OrientedWideRay<FN> r(ray);
-  WatertightRay wr;
-  bool prepared = false;
+  WatertightRayOnDemand watertight;
   bool found = false;
   walkWideTree<FN::kWidth, true, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
                                            [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared && !view.set.fast) wr = WatertightRay(ray), prepared = true;
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
-                                                               wr, ray, hit, state);
+                                                               watertight.of(ray, view.set), ray, hit, state);
     return false;
   }, counters);
   return found;
@@ -100,14 +96,12 @@ bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const R
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   if (bvh.empty()) return false;
   const OrientedWideRay<FN> r(ray);
-  WatertightRay wr;
-  bool prepared = false;
+  WatertightRayOnDemand watertight;
   bool found = false;
   walkWideTree<FN::kWidth, false, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
                                             [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared && !view.set.fast) wr = WatertightRay(ray), prepared = true;
-    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount, wr,
-                                                          ray, state);
+    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
+                                                          watertight.of(ray, view.set), ray, state);
     return found;
   }, counters);
   return found;

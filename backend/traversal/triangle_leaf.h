@@ -21,6 +21,21 @@ struct TriangleSet {
   bool fast = false;                          // Moeller-Trumbore instead of the watertight test
 };
 
+// The watertight test's per-ray constants (three divisions), computed when the ray first reaches a
+// leaf: rays that miss every leaf never pay for them, and the fast mode's Moeller-Trumbore test
+// needs none.
+class WatertightRayOnDemand {
+ public:
+  [[gnu::always_inline]] const WatertightRay& of(const Ray& ray, const TriangleSet& set) {
+    if (!prepared_ && !set.fast) ray_ = WatertightRay(ray), prepared_ = true;
+    return ray_;
+  }
+
+ private:
+  WatertightRay ray_;
+  bool prepared_ = false;
+};
+
 inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, const Ray& ray,
                               const StoredTriangle& tri, TriangleHit& th) {
   return set.fast ? intersectMoeller(ray, tri.v0, tri.v1, tri.v2, th)

@@ -151,14 +151,11 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
 
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  // The watertight test's constants (three divisions) only for rays that reach a leaf; the fast
-  // mode's Moeller-Trumbore test needs none.
-  WatertightRay wr;
-  bool prepared = false;
+  WatertightRayOnDemand watertight;
   bool found = false;
   traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
-    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, hit, state);
+    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
+                                                               watertight.of(ray, bvh.set), ray, hit, state);
     return false;
   }, state.counters);
   return found;
@@ -166,12 +163,11 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
 
 template <typename FN, typename F4, bool kCounted = false>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
-  WatertightRay wr;
-  bool prepared = false;
+  WatertightRayOnDemand watertight;
   bool found = false;
   traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
-    if (!prepared && !bvh.set.fast) wr = WatertightRay(ray), prepared = true;
-    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, wr, ray, state);
+    found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
+                                                          watertight.of(ray, bvh.set), ray, state);
     return found;
   }, state.counters);
   return found;
