@@ -75,7 +75,7 @@ struct OrientedWideNodes {
 
 template <typename FN, typename F4, bool kCounted>
 bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
-                                      const QueryState& state, TraversalCounters* counters) {
+                           const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   if (bvh.empty()) return false;
   const OrientedWideRay<FN> r(ray);
@@ -92,7 +92,7 @@ bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray
 
 template <typename FN, typename F4, bool kCounted>
 bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
-                                  const QueryState& state, TraversalCounters* counters) {
+                       const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   if (bvh.empty()) return false;
   const OrientedWideRay<FN> r(ray);

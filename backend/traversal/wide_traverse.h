@@ -115,7 +115,6 @@ template <typename FN>
 // The axis-aligned layouts' nodes as the shared walk (wide_walk.h) sees them.
 template <typename FN>
 struct AxisAlignedWideNodes {
-  using Node = WideNode<FN::kWidth>;
   const TriangleWideView<FN::kWidth>& bvh;
   const WideRayFrame<FN>& frame;
   const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
