@@ -99,6 +99,8 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid obb_width '" + value + "' (2, 4 or 8)");
     } else if (name == "obb_clusters") {
       config.obbClusters = parseInt(name, value, 0, 1 << 20);
+    } else if (name == "obb_palette") {
+      config.obbPalette = parseInt(name, value, 0, kMaxPaletteFrames);
     } else if (name == "obb_cost") {
       config.obbTestCost = float(parseInt(name, value, 1, 100)) / 10.f;
     } else if (name == "intersector") {

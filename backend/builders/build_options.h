@@ -37,6 +37,10 @@ inline int defaultMaxLeafSize(AccelLayout layout, bool sahDecidesLeaves) {
   return sahDecidesLeaves && (layout == AccelLayout::Bvh4 || layout == AccelLayout::Bvh8) ? 28 : 4;
 }
 
+// The eight-wide kernels hold the ray in the identity frame and in each palette frame, one SIMD
+// lane a frame (oriented_wide_traverse.h).
+constexpr int kMaxPaletteFrames = 7;
+
 struct BuildOptions {
   AccelLayout layout = AccelLayout::Bvh4;
   IntersectorMode intersector = IntersectorMode::Watertight;
@@ -57,6 +61,7 @@ struct BuildOptions {
   int obbBins = 32;
   float obbTestCost = 2.0f;       // cost of one oriented-box test relative to traversalCost (one AABB test)
   int obbClusters = 0;            // k-means clusters of leaf box frames; 0 = every leaf keeps its own
+  int obbPalette = 0;             // shared frames every oriented node picks from (1..kMaxPaletteFrames); 0 = own frames
   int obbWidth = 4;               // children a node when traced: 2 (the binary tree), 4 or 8 (oriented_wide_bvh.h; 8 needs AVX2)
 };
 

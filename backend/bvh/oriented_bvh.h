@@ -29,6 +29,9 @@ struct OrientedNode {
 struct OrientedBvh {
   std::vector<OrientedNode> nodes;  // nodes[0] is the root
   std::vector<Frame> frames;
+  // obb_palette: frames [0, paletteFrames) are shared by the oriented nodes whose boxes fit about as
+  // tightly in one of them as in their own frame (at most kMaxPaletteFrames); the others follow.
+  uint32_t paletteFrames = 0;
   bool empty() const { return nodes.empty(); }
 };
 

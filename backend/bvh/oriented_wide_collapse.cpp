@@ -37,6 +37,7 @@ class OrientedWriter {
   uint32_t emitNode(const uint32_t* children, int count, EmitChild&& emitChild) {
     const uint32_t index = uint32_t(out_.nodes.size());
     out_.nodes.emplace_back();
+    out_.nodes.back().inPalette = 1;
     uint32_t codes[N];
     for (int c = 0; c < count; ++c) codes[c] = emitChild(children[c]);
     OrientedWideNode<N>& wide = out_.nodes[index];  // by index: the recursion grew the vector
@@ -52,6 +53,9 @@ class OrientedWriter {
         wide.lower[row][lane] = used ? child->lower[row] : 0.f;
         wide.upper[row][lane] = used ? child->upper[row] : 0.f;
       }
+      const bool inPalette = !oriented || child->frame < tree_.paletteFrames;
+      wide.paletteSlot[lane] = !oriented ? 0 : inPalette ? int32_t(child->frame + 1) : 0;
+      if (used && !inPalette) wide.inPalette = 0;
       wide.oriented[lane] = oriented ? 1.f : 0.f;
       wide.magnitude[lane] = used ? child->magnitude : 0.f;
       wide.child[lane] = used ? codes[lane] : WideNode<N>::kEmptyChild;
@@ -163,6 +167,16 @@ OrientedWideBvh<N> collapseOrientedToWide(const OrientedBvh& tree, const StoredT
   OrientedWideBvh<N> out;
   if (tree.empty()) return out;
   out.nodes.reserve(tree.nodes.size() / 2);
+  if (tree.paletteFrames > 0) {
+    out.hasPalette = true;
+    for (int slot = 0; slot < FramePalette::kSlots; ++slot) {
+      const bool framed = slot >= 1 && uint32_t(slot - 1) < tree.paletteFrames;
+      for (int row = 0; row < 3; ++row)
+        for (int component = 0; component < 3; ++component)
+          out.palette.axis[row][component][slot] =
+              framed ? tree.frames[size_t(slot - 1)].axis[row][component] : (row == component ? 1.f : 0.f);
+    }
+  }
   OrientedWriter<N> writer(tree, trianglesInLeafOrder, out);
   if (!options.sahOptimal) {
     out.rootChild = OrientedGreedyCollapse<N>(tree, writer).emit(0);

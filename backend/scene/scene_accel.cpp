@@ -294,7 +294,7 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
-         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters &&
+         a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters && a.obbPalette == b.obbPalette &&
          a.obbWidth == b.obbWidth &&
          a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&
          a.traversalCost == b.traversalCost &&

@@ -4,6 +4,8 @@
 
 #include <immintrin.h>
 
+#include <cstdint>
+
 #define OBVH_AVX2 __attribute__((target("avx2")))
 
 namespace obvh::simd {
@@ -29,6 +31,10 @@ struct Float8Avx {
   OBVH_AVX2 friend int lessEqualMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }
   OBVH_AVX2 friend int lessMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)); }
   OBVH_AVX2 friend int equalMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)); }
+  // Lane i of the result is lane slots[i] of table (slots: eight indices 0..7, 32-byte aligned).
+  OBVH_AVX2 friend Float8Avx lanesAt(Float8Avx table, const int32_t* slots) {
+    return {_mm256_permutevar8x32_ps(table.v, _mm256_load_si256(reinterpret_cast<const __m256i*>(slots)))};
+  }
   // See FloatScalar::minOfLanes.
   OBVH_AVX2 friend float minOfLanes(Float8Avx a, int mask) {
     const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);

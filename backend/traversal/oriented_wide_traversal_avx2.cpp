@@ -21,11 +21,15 @@ namespace obvh {
 
 bool intersectClosestOrientedWide(const TriangleOrientedWideView<8>& view, Ray& ray, Hit& hit, const QueryState& state,
                                   TraversalCounters* counters) {
+  if (view.bvh->hasPalette)
+    return intersectClosestOrientedWideImpl<simd::Float8Avx, simd::Float4Sse, true>(view, ray, hit, state, counters);
   return intersectClosestOrientedWideImpl<simd::Float8Avx, simd::Float4Sse>(view, ray, hit, state, counters);
 }
 
 bool intersectAnyOrientedWide(const TriangleOrientedWideView<8>& view, const Ray& ray, const QueryState& state,
                               TraversalCounters* counters) {
+  if (view.bvh->hasPalette)
+    return intersectAnyOrientedWideImpl<simd::Float8Avx, simd::Float4Sse, true>(view, ray, state, counters);
   return intersectAnyOrientedWideImpl<simd::Float8Avx, simd::Float4Sse>(view, ray, state, counters);
 }
 

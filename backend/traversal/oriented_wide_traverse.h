@@ -27,34 +27,58 @@ struct OrientedWideRay {
   }
 };
 
-// The children the ray enters within [tnear, tfar], with their entry distances. Per child as in
-// OrientedRay::enter: the transformed ray against the box widened by the transform's rounding
-// margin (zero for axis-aligned children, whose identity rows transform exactly). A ray that does
-// not move along a frame axis (1/dir infinite) gets -inf..+inf from a slab that holds its origin
-// and an empty interval from one that does not; an origin exactly on a plane makes that plane's
-// distance 0 * inf = NaN, replaced by the value that leaves the slab unbounded on that side
-// (-1/dir for the lower plane, 1/dir for the upper), so the ray counts as inside, as in the
-// scalar box test.
+// One frame row's slab of every child, given the ray's origin and inverse direction along that row
+// in each child's frame. A ray that does not move along a frame axis (1/dir infinite) gets
+// -inf..+inf from a slab that holds its origin and an empty interval from one that does not; an
+// origin exactly on a plane makes that plane's distance 0 * inf = NaN, replaced by the value that
+// leaves the slab unbounded on that side (-1/dir for the lower plane, 1/dir for the upper), so the
+// ray counts as inside, as in the scalar box test.
 template <typename FN>
-[[gnu::always_inline]] inline int enterOrientedChildren(const OrientedWideNode<FN::kWidth>& node,
-                                                        const OrientedWideRay<FN>& r, float tnear, float tfar,
-                                                        float entry[FN::kWidth]) {
+[[gnu::always_inline]] inline void clipBySlabRow(const OrientedWideNode<FN::kWidth>& node, int row, FN o, FN inv,
+                                                 FN margin, FN& nearT, FN& farT) {
+  const FN t0 = replaceNaN((FN::load(node.lower[row]) - margin - o) * inv, FN::broadcast(0.f) - inv);
+  const FN t1 = replaceNaN((FN::load(node.upper[row]) + margin - o) * inv, inv);
+  nearT = max(min(t0, t1), nearT);
+  farT = min(max(t0, t1), farT);
+}
+
+// Per child as in OrientedRay::enter: the transformed ray against the box widened by the
+// transform's rounding margin (zero for axis-aligned children, whose identity rows transform
+// exactly). frameRow(row, o, inv) supplies the ray along one row of each child's frame.
+template <typename FN, typename FrameRow>
+[[gnu::always_inline]] inline int enterChildBoxes(const OrientedWideNode<FN::kWidth>& node, FN originNorm, float tnear,
+                                                  float tfar, float entry[FN::kWidth], FrameRow&& frameRow) {
   const FN margin =
-      FN::load(node.oriented) * FN::broadcast(2.f * kObbMarginScale) * (r.originNorm + FN::load(node.magnitude));
+      FN::load(node.oriented) * FN::broadcast(2.f * kObbMarginScale) * (originNorm + FN::load(node.magnitude));
   FN nearT = FN::broadcast(tnear), farT = FN::broadcast(std::numeric_limits<float>::infinity());
   for (int row = 0; row < 3; ++row) {
-    const FN a0 = FN::load(node.axis[row][0]), a1 = FN::load(node.axis[row][1]), a2 = FN::load(node.axis[row][2]);
-    const FN o = a0 * r.org[0] + a1 * r.org[1] + a2 * r.org[2];
-    const FN d = a0 * r.dir[0] + a1 * r.dir[1] + a2 * r.dir[2];
-    const FN inv = FN::broadcast(1.f) / d;
-    const FN t0 = replaceNaN((FN::load(node.lower[row]) - margin - o) * inv, FN::broadcast(0.f) - inv);
-    const FN t1 = replaceNaN((FN::load(node.upper[row]) + margin - o) * inv, inv);
-    nearT = max(min(t0, t1), nearT);
-    farT = min(max(t0, t1), farT);
+    FN o, inv;
+    frameRow(row, o, inv);
+    clipBySlabRow(node, row, o, inv, margin, nearT, farT);
   }
   farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
   nearT.store(entry);
   return lessEqualMask(nearT, farT) & node.usedMask;
+}
+
+// The ray along one frame row: a0..a2 the row, one lane a frame. The palette's ray and the
+// per-child transform both take it from here, so both round alike.
+template <typename FN>
+[[gnu::always_inline]] inline void rayAlongRow(FN a0, FN a1, FN a2, const FN org[3], const FN dir[3], FN& o, FN& inv) {
+  o = a0 * org[0] + a1 * org[1] + a2 * org[2];
+  inv = FN::broadcast(1.f) / (a0 * dir[0] + a1 * dir[1] + a2 * dir[2]);
+}
+
+// The children the ray enters within [tnear, tfar], with their entry distances: the ray is
+// transformed into every child's frame.
+template <typename FN>
+[[gnu::always_inline]] inline int enterOrientedChildren(const OrientedWideNode<FN::kWidth>& node,
+                                                        const OrientedWideRay<FN>& r, float tnear, float tfar,
+                                                        float entry[FN::kWidth]) {
+  return enterChildBoxes(node, r.originNorm, tnear, tfar, entry, [&](int row, FN& o, FN& inv) {
+    rayAlongRow(FN::load(node.axis[row][0]), FN::load(node.axis[row][1]), FN::load(node.axis[row][2]), r.org, r.dir, o,
+                inv);
+  });
 }
 
 // The oriented layouts' nodes as the shared walk (wide_walk.h) sees them. No prefetch: loading
@@ -73,16 +97,50 @@ struct OrientedWideNodes {
   }
 };
 
-template <typename FN, typename F4, bool kCounted>
-bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
-                           const QueryState& state, TraversalCounters* counters) {
+// The ray in every frame of a palette (FramePalette), one lane a frame: computed once a ray, then
+// each node picks its children's lanes (lanesAt) instead of transforming the ray eight times. The
+// lanes round exactly as the per-child transform does (rayAlongRow), so both paths enter the same
+// children. Eight-lane vectors only: a palette has eight slots.
+template <typename FN>
+struct PaletteRay {
+  static_assert(FN::kWidth == FramePalette::kSlots, "one lane a palette slot");
+  FN org[3], inv[3];
+  PaletteRay(const OrientedWideRay<FN>& r, const FramePalette& palette) {
+    for (int row = 0; row < 3; ++row)
+      rayAlongRow(FN::load(palette.axis[row][0]), FN::load(palette.axis[row][1]), FN::load(palette.axis[row][2]), r.org,
+                  r.dir, org[row], inv[row]);
+  }
+};
+
+// A palette tree's nodes: those whose children all have palette frames pick the ray's lanes, the
+// others transform it per child.
+template <typename FN>
+struct PaletteWideNodes {
+  const OrientedWideBvh<FN::kWidth>& bvh;
+  const OrientedWideRay<FN>& ray;
+  const PaletteRay<FN>& inPalette;
+  const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
+    const OrientedWideNode<FN::kWidth>& n = bvh.nodes[node];
+    if (!n.inPalette) return enterOrientedChildren(n, ray, tnear, tfar, entry);
+    return enterChildBoxes(n, ray.originNorm, tnear, tfar, entry, [&](int row, FN& o, FN& inv) {
+      o = lanesAt(inPalette.org[row], n.paletteSlot);
+      inv = lanesAt(inPalette.inv[row], n.paletteSlot);
+    });
+  }
+  void prefetch(uint32_t) const {}
+  void count(uint32_t node, TraversalCounters& counters) const {
+    counters.obbTests += uint64_t(__builtin_popcount(unsigned(bvh.nodes[node].usedMask)));
+  }
+};
+
+template <typename FN, typename F4, bool kCounted, typename Nodes>
+bool closestThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
+                         const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  if (bvh.empty()) return false;
-  const OrientedWideRay<FN> r(ray);
   WatertightRayOnDemand watertight;
   bool found = false;
-  walkWideTree<FN::kWidth, true, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
-                                           [&](uint32_t firstBlock, uint32_t blockCount) {
+  walkWideTree<FN::kWidth, true, kCounted>(nodes, bvh.rootChild, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                                watertight.of(ray, view.set), ray, hit, state);
     return false;
@@ -90,16 +148,13 @@ bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray
   return found;
 }
 
-template <typename FN, typename F4, bool kCounted>
-bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
-                       const QueryState& state, TraversalCounters* counters) {
+template <typename FN, typename F4, bool kCounted, typename Nodes>
+bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
+                     const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  if (bvh.empty()) return false;
-  const OrientedWideRay<FN> r(ray);
   WatertightRayOnDemand watertight;
   bool found = false;
-  walkWideTree<FN::kWidth, false, kCounted>(OrientedWideNodes<FN>{bvh, r}, bvh.rootChild, ray,
-                                            [&](uint32_t firstBlock, uint32_t blockCount) {
+  walkWideTree<FN::kWidth, false, kCounted>(nodes, bvh.rootChild, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                           watertight.of(ray, view.set), ray, state);
     return found;
@@ -107,19 +162,49 @@ bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const R
   return found;
 }
 
-// The uncounted instantiation for the normal query path, the counted one for the layout metrics.
-template <typename FN, typename F4>
-bool intersectClosestOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
-                                      const QueryState& state, TraversalCounters* counters) {
-  return counters ? closestInOrientedWide<FN, F4, true>(view, ray, hit, state, counters)
-                  : closestInOrientedWide<FN, F4, false>(view, ray, hit, state, nullptr);
+// Each child's frame transformed per node; kUsePalette: a palette tree's frames transformed once
+// a ray (eight-lane vectors only).
+template <typename FN, typename F4, bool kCounted, bool kUsePalette = false>
+bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
+                           const QueryState& state, TraversalCounters* counters) {
+  const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
+  if (bvh.empty()) return false;
+  const OrientedWideRay<FN> r(ray);
+  if constexpr (kUsePalette) {
+    const PaletteRay<FN> p(r, bvh.palette);
+    return closestThroughNodes<FN, F4, kCounted>(PaletteWideNodes<FN>{bvh, r, p}, view, ray, hit, state, counters);
+  } else {
+    return closestThroughNodes<FN, F4, kCounted>(OrientedWideNodes<FN>{bvh, r}, view, ray, hit, state, counters);
+  }
 }
 
-template <typename FN, typename F4>
+template <typename FN, typename F4, bool kCounted, bool kUsePalette = false>
+bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray, const QueryState& state,
+                       TraversalCounters* counters) {
+  const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
+  if (bvh.empty()) return false;
+  const OrientedWideRay<FN> r(ray);
+  if constexpr (kUsePalette) {
+    const PaletteRay<FN> p(r, bvh.palette);
+    return anyThroughNodes<FN, F4, kCounted>(PaletteWideNodes<FN>{bvh, r, p}, view, ray, state, counters);
+  } else {
+    return anyThroughNodes<FN, F4, kCounted>(OrientedWideNodes<FN>{bvh, r}, view, ray, state, counters);
+  }
+}
+
+// The uncounted instantiation for the normal query path, the counted one for the layout metrics.
+template <typename FN, typename F4, bool kUsePalette = false>
+bool intersectClosestOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
+                                      const QueryState& state, TraversalCounters* counters) {
+  return counters ? closestInOrientedWide<FN, F4, true, kUsePalette>(view, ray, hit, state, counters)
+                  : closestInOrientedWide<FN, F4, false, kUsePalette>(view, ray, hit, state, nullptr);
+}
+
+template <typename FN, typename F4, bool kUsePalette = false>
 bool intersectAnyOrientedWideImpl(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
                                   const QueryState& state, TraversalCounters* counters) {
-  return counters ? anyInOrientedWide<FN, F4, true>(view, ray, state, counters)
-                  : anyInOrientedWide<FN, F4, false>(view, ray, state, nullptr);
+  return counters ? anyInOrientedWide<FN, F4, true, kUsePalette>(view, ray, state, counters)
+                  : anyInOrientedWide<FN, F4, false, kUsePalette>(view, ray, state, nullptr);
 }
 
 }  // namespace obvh

@@ -88,7 +88,7 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
                              "accel=hybrid,obb_split=aabb", "builder=kmeans,kmeans_k=4", "builder=sah",
                              "builder=distance,distance_alpha=0.25,distance_source=1.5:-2:3e2",
                              "traversal_cost=2.5,intersection_cost=0.5", "collapse=greedy", "collapse=sah,accel=bvh4",
-                             "collapse=default"}) {
+                             "collapse=default", "accel=obb,obb_palette=7", "accel=hybrid,obb_palette=1,obb_width=4"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -99,7 +99,7 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
 TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
   for (const char* config : {"threads=-1", "accel=bvh16", "accel=nonsense", "intersector=foo",
                              "build_bins=1", "max_leaf_size=x", "ray_mask=maybe", "obb_split=best", "obb_bins=1",
-                             "obb_clusters=-1", "obb_cost=0", "builder=octree", "kmeans_k=9", "kmeans_k=1",
+                             "obb_clusters=-1", "obb_palette=8", "obb_palette=-1", "obb_palette=x", "obb_cost=0", "builder=octree", "kmeans_k=9", "kmeans_k=1",
                              "distance_alpha=1.5", "distance_alpha=x", "distance_source=1:2", "distance_source=1:2:3:4",
                              "distance_source=a:b:c", "traversal_cost=0", "intersection_cost=-1",
                              "collapse=optimal"}) {

@@ -1,5 +1,5 @@
-// The oriented layouts (accel=obb, accel=hybrid, with every split rule and with clustered leaf
-// frames) against Embree, ray by ray, on every semiconductor-stack preset, the bunny, a closed icosphere (rays at its
+// The oriented layouts (accel=obb, accel=hybrid, with every split rule, with clustered leaf
+// frames and with frame palettes) against Embree, ray by ray, on every semiconductor-stack preset, the bunny, a closed icosphere (rays at its
 // shared edges and vertices), a triangle soup and non-planar quads.
 #include <gtest/gtest.h>
 
@@ -60,7 +60,9 @@ INSTANTIATE_TEST_SUITE_P(Configs, OrientedLayouts,
                          ::testing::Values("accel=obb", "accel=obb,obb_split=median", "accel=obb,obb_split=midpoint",
                                            "accel=obb,obb_split=aabb", "accel=hybrid", "accel=obb,obb_clusters=64",
                                            "accel=hybrid,obb_clusters=16,obb_bins=8", "accel=obb,intersector=fast",
-                                           "accel=obb,obb_width=2", "accel=hybrid,obb_width=2", "accel=obb,obb_width=4"),
+                                           "accel=obb,obb_width=2", "accel=hybrid,obb_width=2", "accel=obb,obb_width=4",
+                                           "accel=obb,obb_palette=7", "accel=hybrid,obb_palette=2",
+                                           "accel=obb,obb_palette=4,obb_width=4"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;
                            for (char& c : name)

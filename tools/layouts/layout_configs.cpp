@@ -34,6 +34,8 @@ const std::vector<LayoutConfig>& layoutConfigs() {
       make("hybrid-sah", "accel=hybrid,obb_split=sah", AccelLayout::Hybrid, ObbSplit::Sah),
       make("obb-k1000", "accel=obb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::AabbSah, 1000),
       make("hybrid-k1000", "accel=hybrid,obb_clusters=1000", AccelLayout::Hybrid, ObbSplit::AabbSah, 1000),
+      [] { auto c = make("obb-p7", "accel=obb,obb_palette=7", AccelLayout::Obb); c.options.obbPalette = 7; return c; }(),
+      [] { auto c = make("hybrid-p7", "accel=hybrid,obb_palette=7", AccelLayout::Hybrid); c.options.obbPalette = 7; return c; }(),
   };
   return configs;
 }
