@@ -19,11 +19,13 @@ struct NodeInfo {
   int depth = 0;
 };
 
-std::vector<NodeInfo> nodeInfos(const BinaryBvh& bvh) {
+// Every node's triangle range, parent and depth; preOrder receives the nodes parents first.
+std::vector<NodeInfo> nodeInfos(const BinaryBvh& bvh, std::vector<uint32_t>& preOrder) {
   std::vector<NodeInfo> info(bvh.nodes.size());
   // Pre-order: children follow their parent, so one backwards pass fills interior ranges.
   std::vector<uint32_t> stack = {0};
-  std::vector<uint32_t> order;
+  std::vector<uint32_t>& order = preOrder;
+  order.clear();
   order.reserve(bvh.nodes.size());
   while (!stack.empty()) {
     const uint32_t n = stack.back();
@@ -58,6 +60,29 @@ std::vector<Vec3f> pointsOf(const StoredTriangle* triangles, uint32_t begin, uin
   return points;
 }
 
+// Every node's box in one frame: the leaves refitted, each interior node the union of its
+// children's boxes, children first. The same float box as a refit over the node's own points, since
+// rounding outwards (fitWithAxes) is monotonic, for the cost of one refit of the leaves.
+std::vector<Obb> boxesInFrame(const Frame& frame, const BinaryBvh& binary, const std::vector<NodeInfo>& info,
+                              const std::vector<uint32_t>& preOrder, const StoredTriangle* triangles) {
+  std::vector<Obb> boxes(binary.nodes.size());
+  tbb::parallel_for(size_t(0), boxes.size(), [&](size_t i) {
+    if (!binary.nodes[i].isLeaf()) return;
+    const std::vector<Vec3f> points = pointsOf(triangles, info[i].begin, info[i].end);
+    boxes[i] = fitWithAxes(frame.axis, points.data(), points.size());
+  });
+  for (auto it = preOrder.rbegin(); it != preOrder.rend(); ++it) {
+    const Bvh2Node& node = binary.nodes[*it];
+    if (node.isLeaf()) continue;
+    const Obb &l = boxes[node.firstChildOrPrim], &r = boxes[node.firstChildOrPrim + 1];
+    Obb& box = boxes[*it];
+    for (int k = 0; k < 3; ++k) box.axis[k] = frame.axis[k];
+    box.lower = {std::min(l.lower.x, r.lower.x), std::min(l.lower.y, r.lower.y), std::min(l.lower.z, r.lower.z)};
+    box.upper = {std::max(l.upper.x, r.upper.x), std::max(l.upper.y, r.upper.y), std::max(l.upper.z, r.upper.z)};
+  }
+  return boxes;
+}
+
 float magnitudeOf(Vec3f lower, Vec3f upper) {
   float sum = 0.f;
   for (int k = 0; k < 3; ++k) {
@@ -88,6 +113,9 @@ constexpr int kFeatureDims = 15;
 // cost more (small-1.5k 118.4 against 109.6); 1.05-1.25 were alike; unbounded, mixed-654k's SAH
 // cost doubled (3,191 -> 7,313), its vias and stepped walls fitting no palette frame.
 constexpr float kPaletteSlack = 1.1f;
+// Oriented boxes the palette's k-means looks at, at most (mixed-654k has 293k: k-means over all of
+// them took about a third of the build).
+constexpr size_t kPaletteSample = 16384;
 // In double: products of tiny axis components are denormal in float, and the threads' flush-to-zero
 // modes may differ (the main thread's is the application's), which made the clustering depend on
 // which thread assigned which node.
@@ -228,7 +256,8 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
   OrientedBvh out;
   if (binary.empty()) return out;
   const size_t n = binary.nodes.size();
-  const std::vector<NodeInfo> info = nodeInfos(binary);
+  std::vector<uint32_t> preOrder;
+  const std::vector<NodeInfo> info = nodeInfos(binary, preOrder);
   std::vector<Obb> fitted(n);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const std::vector<Vec3f> points = pointsOf(triangles, info[i].begin, info[i].end);
@@ -262,9 +291,12 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
   std::vector<Frame> clusterFrames;
   if (options.obbPalette > 0) {
     const std::vector<size_t> members = inTreeOrder(info, [&](size_t i) { return oriented[i] != 0; });
+    // A few frames need no more than a sample to be found: every stride-th box in tree order.
+    const size_t stride = std::max<size_t>(1, members.size() / kPaletteSample);
     std::vector<Obb> boxes;
     std::vector<Features> features;
-    for (size_t i : members) boxes.push_back(fitted[i]), features.push_back(orientationFeatures(fitted[i]));
+    for (size_t j = 0; j < members.size(); j += stride)
+      boxes.push_back(fitted[members[j]]), features.push_back(orientationFeatures(fitted[members[j]]));
     if (!members.empty()) {
       const int k = std::min(options.obbPalette, kMaxPaletteFrames);
       std::vector<int> frameOfCluster;
@@ -275,26 +307,28 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
       std::vector<Obb> framedBoxes;
       std::vector<Features> framedFeatures;
       std::vector<int> framedAssignment;
-      for (size_t j = 0; j < members.size(); ++j)
+      for (size_t j = 0; j < boxes.size(); ++j)
         if (assignment[j] > 0)
           framedBoxes.push_back(boxes[j]), framedFeatures.push_back(features[j]), framedAssignment.push_back(assignment[j] - 1);
       representativeFrames(framedBoxes, framedFeatures, framedAssignment, k, true, clusterFrames, frameOfCluster);
-      tbb::parallel_for(size_t(0), members.size(), [&](size_t j) {
+      std::vector<float> bestArea(members.size());
+      std::vector<Obb> best(members.size());
+      for (size_t j = 0; j < members.size(); ++j) bestArea[j] = aabbArea(members[j]);
+      for (size_t f = 0; f < clusterFrames.size(); ++f) {
+        const std::vector<Obb> inFrame = boxesInFrame(clusterFrames[f], binary, info, preOrder, triangles);
+        for (size_t j = 0; j < members.size(); ++j)
+          if (inFrame[members[j]].halfArea() < bestArea[j])
+            bestArea[j] = inFrame[members[j]].halfArea(), best[j] = inFrame[members[j]], clusterOf[members[j]] = int(f);
+      }
+      for (size_t j = 0; j < members.size(); ++j) {
         const size_t node = members[j];
-        const std::vector<Vec3f> points = pointsOf(triangles, info[node].begin, info[node].end);
-        float bestArea = aabbArea(node);
-        Obb best;
-        for (size_t f = 0; f < clusterFrames.size(); ++f) {
-          const Obb refit = fitWithAxes(clusterFrames[f].axis, points.data(), points.size());
-          if (refit.halfArea() < bestArea) bestArea = refit.halfArea(), best = refit, clusterOf[node] = int(f);
-        }
-        if (bestArea <= kPaletteSlack * fitted[node].halfArea()) {
+        if (bestArea[j] <= kPaletteSlack * fitted[node].halfArea()) {
           if (clusterOf[node] < 0) oriented[node] = 0;  // the axis-aligned box (the identity's slot)
-          else fitted[node] = best;
+          else fitted[node] = best[j];
         } else {
           clusterOf[node] = -1;  // keeps its own frame
         }
-      });
+      }
     }
     out.paletteFrames = uint32_t(clusterFrames.size());
   } else if (options.obbClusters > 0) {

@@ -42,6 +42,27 @@ PaletteTree buildMixedStack(int paletteFrames) {
   return out;
 }
 
+Obb boxOf(const PaletteTree& t, const OrientedNode& node) {
+  Obb box;
+  if (node.oriented())
+    for (int k = 0; k < 3; ++k) box.axis[k] = t.binary.frames[node.frame].axis[k];
+  box.lower = node.lower, box.upper = node.upper;
+  return box;
+}
+
+void expectTrianglesInside(const PaletteTree& t, uint32_t index, std::vector<Obb> ancestors) {
+  const OrientedNode& node = t.binary.nodes[index];
+  ancestors.push_back(boxOf(t, node));
+  if (!node.isLeaf()) {
+    expectTrianglesInside(t, node.firstChildOrPrim, ancestors);
+    expectTrianglesInside(t, node.firstChildOrPrim + 1, ancestors);
+    return;
+  }
+  for (uint32_t p = node.firstChildOrPrim; p < node.firstChildOrPrim + node.primCount; ++p)
+    for (const Vec3f& v : {t.inLeafOrder[p].v0, t.inLeafOrder[p].v1, t.inLeafOrder[p].v2})
+      for (const Obb& box : ancestors) ASSERT_TRUE(box.contains(v, 1e-5f)) << "node " << index;
+}
+
 TEST(FramePalette, OrientedNodesShareAtMostThePalettesFrames) {
   const PaletteTree t = buildMixedStack(3);
   ASSERT_GT(t.binary.paletteFrames, 0u);
@@ -55,17 +76,10 @@ TEST(FramePalette, OrientedNodesShareAtMostThePalettesFrames) {
   // Most oriented boxes take a palette frame; walls no palette frame fits keep their own.
   EXPECT_GT(inPalette, 10 * ownFrame);
   EXPECT_GT(ownFrame, 0u);
-  // Every leaf's triangles lie in its box (refitted in a palette frame or kept in its own).
-  for (size_t i = 0; i < t.binary.nodes.size(); ++i) {
-    const OrientedNode& node = t.binary.nodes[i];
-    if (!node.isLeaf()) continue;
-    Obb box;
-    if (node.oriented()) for (int k = 0; k < 3; ++k) box.axis[k] = t.binary.frames[node.frame].axis[k];
-    box.lower = node.lower, box.upper = node.upper;
-    for (uint32_t p = node.firstChildOrPrim; p < node.firstChildOrPrim + node.primCount; ++p)
-      for (const Vec3f& v : {t.inLeafOrder[p].v0, t.inLeafOrder[p].v1, t.inLeafOrder[p].v2})
-        ASSERT_TRUE(box.contains(v, 1e-5f * (1.f + node.magnitude))) << "leaf " << i;
-  }
+  // Every triangle lies in the box of each node above it (interior boxes in palette frames are
+  // unions of their children's).
+  const std::vector<Obb> noAncestors;
+  expectTrianglesInside(t, 0, noAncestors);
   size_t paletteNodes = 0;
   for (const OrientedWideNode<8>& node : t.wide.nodes) paletteNodes += node.inPalette != 0;
   EXPECT_TRUE(t.wide.hasPalette);
