@@ -22,7 +22,7 @@ struct DeviceConfig {
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
   int obbClusters = 0;
-  int obbPalette = 0;  // obb_palette=K: every oriented box in one of K shared frames (see BuildOptions)
+  int obbPalette = -1;  // obb_palette=K (see BuildOptions); -1: kDefaultObbPalette, or 0 with obb_clusters
   int obbWidth = fastestOrientedWidth();  // obb_width=2|4|8: the oriented layouts traced binary, four- or eight-wide
   float obbTestCost = 2.f;
   float traversalCost = 1.f;     // SAH cost of a node visit (traversal_cost)

@@ -225,7 +225,9 @@ void Scene::rebuild() {
   options.obbSplit = device_->config().obbSplit;
   options.obbBins = device_->config().obbBins;
   options.obbClusters = device_->config().obbClusters;
-  options.obbPalette = device_->config().obbPalette;
+  options.obbPalette = device_->config().obbPalette >= 0 ? device_->config().obbPalette
+                       : options.obbClusters > 0       ? 0
+                                                       : kDefaultObbPalette;
   options.obbWidth = device_->config().obbWidth;
   options.obbTestCost = device_->config().obbTestCost;
   const auto started = std::chrono::steady_clock::now();

@@ -61,7 +61,7 @@ INSTANTIATE_TEST_SUITE_P(Configs, OrientedLayouts,
                                            "accel=obb,obb_split=aabb", "accel=hybrid", "accel=obb,obb_clusters=64",
                                            "accel=hybrid,obb_clusters=16,obb_bins=8", "accel=obb,intersector=fast",
                                            "accel=obb,obb_width=2", "accel=hybrid,obb_width=2", "accel=obb,obb_width=4",
-                                           "accel=obb,obb_palette=7", "accel=hybrid,obb_palette=2",
+                                           "accel=obb,obb_palette=0", "accel=hybrid,obb_palette=2",
                                            "accel=obb,obb_palette=4,obb_width=4"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;

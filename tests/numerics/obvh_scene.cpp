@@ -4,7 +4,7 @@
 
 namespace obvh::test {
 
-const ObvhMode kEveryMode[10] = {{"watertight", nullptr, RTC_SCENE_FLAG_NONE},
+const ObvhMode kEveryMode[11] = {{"watertight", nullptr, RTC_SCENE_FLAG_NONE},
                                 {"robust_flag", nullptr, RTC_SCENE_FLAG_ROBUST},
                                 {"fast", "intersector=fast", RTC_SCENE_FLAG_NONE},
                                 {"bvh2", "accel=bvh2", RTC_SCENE_FLAG_NONE},
@@ -12,10 +12,11 @@ const ObvhMode kEveryMode[10] = {{"watertight", nullptr, RTC_SCENE_FLAG_NONE},
                                 {"obb", "accel=obb", RTC_SCENE_FLAG_NONE},
                                 {"hybrid", "accel=hybrid", RTC_SCENE_FLAG_NONE},
                                 {"obb_clusters", "accel=obb,obb_clusters=32", RTC_SCENE_FLAG_NONE},
+                                {"obb_own_frames", "accel=obb,obb_palette=0", RTC_SCENE_FLAG_NONE},
                                 {"obb_binary", "accel=obb,obb_width=2", RTC_SCENE_FLAG_NONE},
                                 {"obb_four_wide", "accel=obb,obb_width=4", RTC_SCENE_FLAG_NONE}};
-const ObvhMode kWatertightModes[9] = {kEveryMode[0], kEveryMode[1], kEveryMode[3], kEveryMode[4], kEveryMode[5],
-                                      kEveryMode[6], kEveryMode[7], kEveryMode[8], kEveryMode[9]};
+const ObvhMode kWatertightModes[10] = {kEveryMode[0], kEveryMode[1], kEveryMode[3], kEveryMode[4], kEveryMode[5],
+                                       kEveryMode[6], kEveryMode[7], kEveryMode[8], kEveryMode[9], kEveryMode[10]};
 
 std::string modeName(const ::testing::TestParamInfo<ObvhMode>& info) { return info.param.name; }
 void PrintTo(const ObvhMode& mode, std::ostream* os) { *os << mode.name; }

@@ -43,9 +43,9 @@ struct ObvhMode {
 };
 // Every mode: watertight (default), RTC_SCENE_FLAG_ROBUST, the fast intersector, the binary
 // layout, the oriented layouts (obb, hybrid, obb with clustered leaf frames).
-extern const ObvhMode kEveryMode[10];
+extern const ObvhMode kEveryMode[11];
 // The modes that promise watertightness (the fast intersector does not; the accuracy study measures it).
-extern const ObvhMode kWatertightModes[9];
+extern const ObvhMode kWatertightModes[10];
 std::string modeName(const ::testing::TestParamInfo<ObvhMode>& info);
 void PrintTo(const ObvhMode& mode, std::ostream* os);
 

@@ -13,6 +13,7 @@ LayoutConfig make(const char* name, const char* deviceConfig, AccelLayout layout
   c.options.maxLeafSize = 0;  // as a device would: the layout's default
   c.options.obbSplit = split;
   c.options.obbClusters = clusters;
+  c.options.obbPalette = clusters > 0 ? 0 : kDefaultObbPalette;  // as a device would
   return c;
 }
 
@@ -34,8 +35,8 @@ const std::vector<LayoutConfig>& layoutConfigs() {
       make("hybrid-sah", "accel=hybrid,obb_split=sah", AccelLayout::Hybrid, ObbSplit::Sah),
       make("obb-k1000", "accel=obb,obb_clusters=1000", AccelLayout::Obb, ObbSplit::AabbSah, 1000),
       make("hybrid-k1000", "accel=hybrid,obb_clusters=1000", AccelLayout::Hybrid, ObbSplit::AabbSah, 1000),
-      [] { auto c = make("obb-p7", "accel=obb,obb_palette=7", AccelLayout::Obb); c.options.obbPalette = 7; return c; }(),
-      [] { auto c = make("hybrid-p7", "accel=hybrid,obb_palette=7", AccelLayout::Hybrid); c.options.obbPalette = 7; return c; }(),
+      [] { auto c = make("obb-p0", "accel=obb,obb_palette=0", AccelLayout::Obb); c.options.obbPalette = 0; return c; }(),
+      [] { auto c = make("hybrid-p0", "accel=hybrid,obb_palette=0", AccelLayout::Hybrid); c.options.obbPalette = 0; return c; }(),
   };
   return configs;
 }
