@@ -4,10 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <array>
 #include <limits>
-#include <random>
 
+#include "bvh/frame_clustering.h"
 #include "obb/obb.h"
 
 namespace obvh {
@@ -106,8 +105,6 @@ std::vector<size_t> inTreeOrder(const std::vector<NodeInfo>& info, Keep&& keep) 
   return nodes;
 }
 
-constexpr int kFeatureDims = 15;
-
 // How much larger than its own oriented box a node's box may grow in a palette frame. Measured on
 // the stack presets (SAH cost, obb_palette=7): 1.0 left more nodes on the per-child transform and
 // cost more (small-1.5k 118.4 against 109.6); 1.05-1.25 were alike; unbounded, mixed-654k's SAH
@@ -116,140 +113,6 @@ constexpr float kPaletteSlack = 1.1f;
 // Oriented boxes the palette's k-means looks at, at most (mixed-654k has 293k: k-means over all of
 // them took about a third of the build).
 constexpr size_t kPaletteSample = 16384;
-// In double: products of tiny axis components are denormal in float, and the threads' flush-to-zero
-// modes may differ (the main thread's is the application's), which made the clustering depend on
-// which thread assigned which node.
-using Features = std::array<double, kFeatureDims>;
-
-// Leaf clusters' features: the sign-free outer products of the longest two axes (orientation) and
-// the box centre scaled by the scene size, so nearby leaves of one direction group together.
-Features leafClusterFeatures(const Obb& b, float sceneSize) {
-  Features features{};
-  int order[3] = {0, 1, 2};
-  std::sort(order, order + 3, [&](int a, int c) { return b.upper[a] - b.lower[a] > b.upper[c] - b.lower[c]; });
-  int f = 0;
-  for (int which = 0; which < 2; ++which) {
-    const Vec3f a = b.axis[order[which]];
-    for (int r = 0; r < 3; ++r)
-      for (int c = r; c < 3; ++c) features[size_t(f++)] = double(a[r]) * a[c];
-  }
-  const Vec3f centre = (b.lower + b.upper) * 0.5f;  // in box coordinates; back to world:
-  const Vec3f world = b.axis[0] * centre.x + b.axis[1] * centre.y + b.axis[2] * centre.z;
-  for (int c = 0; c < 3; ++c) features[size_t(f++)] = 0.5 * world[c] / sceneSize;
-  return features;
-}
-
-// A frame's orientation alone, blind to the order and signs of its axes (a box is the same box
-// with its axes permuted or flipped): the fifteen distinct entries of the sum over the axes of
-// a (x) a (x) a (x) a, which is equal for two frames exactly when they span the same box directions.
-Features orientationFeatures(const Obb& b) {
-  Features features{};
-  int f = 0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      for (int k = j; k < 3; ++k)
-        for (int l = k; l < 3; ++l) {
-          double sum = 0.0;
-          for (const Vec3f& a : b.axis) sum += double(a[i]) * a[j] * a[k] * a[l];
-          features[size_t(f++)] = sum;
-        }
-  return features;
-}
-
-double squaredDistance(const Features& a, const Features& b) {
-  double d = 0.0;
-  for (int j = 0; j < kFeatureDims; ++j) d += (a[size_t(j)] - b[size_t(j)]) * (a[size_t(j)] - b[size_t(j)]);
-  return d;
-}
-
-// Lloyd's k-means, seeded deterministically: the cluster of each feature vector. Without `anchor`,
-// the seeds are spread evenly over the given order. With one, cluster 0 is held at the anchor and
-// the k others are seeded farthest first from it and from each other (few clusters must each find
-// a direction of their own).
-std::vector<int> kMeans(const std::vector<Features>& features, int k, const Features* anchor = nullptr) {
-  const size_t n = features.size();
-  k = int(std::min<size_t>(size_t(k), n));
-  std::mt19937 rng(12345);
-  std::vector<Features> centres;
-  if (anchor) {
-    centres.push_back(*anchor);
-    std::vector<double> nearest(n);
-    for (size_t i = 0; i < n; ++i) nearest[i] = squaredDistance(features[i], *anchor);
-    for (int c = 0; c < k; ++c) {
-      const size_t farthest = size_t(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
-      centres.push_back(features[farthest]);
-      for (size_t i = 0; i < n; ++i) nearest[i] = std::min(nearest[i], squaredDistance(features[i], centres.back()));
-    }
-  } else {
-    for (int c = 0; c < k; ++c) centres.push_back(features[(size_t(c) * n) / size_t(k)]);
-  }
-  k = int(centres.size());
-  const int firstMoving = anchor ? 1 : 0;
-  std::vector<int> assignment(n, 0);
-  for (int iteration = 0; iteration < 12; ++iteration) {
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-      double best = std::numeric_limits<double>::infinity();
-      for (int c = 0; c < k; ++c) {
-        const double d = squaredDistance(features[i], centres[size_t(c)]);
-        if (d < best) best = d, assignment[i] = c;
-      }
-    });
-    std::vector<std::array<double, kFeatureDims>> sums(static_cast<size_t>(k));
-    std::vector<size_t> counts(static_cast<size_t>(k), 0);
-    for (auto& s : sums) s.fill(0.0);
-    for (size_t i = 0; i < n; ++i) {
-      ++counts[size_t(assignment[i])];
-      for (int j = 0; j < kFeatureDims; ++j) sums[size_t(assignment[i])][size_t(j)] += features[i][size_t(j)];
-    }
-    for (int c = firstMoving; c < k; ++c) {
-      if (counts[size_t(c)] == 0) {
-        centres[size_t(c)] = features[rng() % n];  // re-seed an empty cluster
-        continue;
-      }
-      for (int j = 0; j < kFeatureDims; ++j) centres[size_t(c)][size_t(j)] = sums[size_t(c)][size_t(j)] / double(counts[size_t(c)]);
-    }
-  }
-  return assignment;
-}
-
-// Each cluster's frame: that of its member with the largest box (it covers the most area), or with
-// the features nearest the cluster's mean. Empty clusters get none; frameOfCluster maps a cluster
-// to its frame's index in `frames`.
-void representativeFrames(const std::vector<Obb>& boxes, const std::vector<Features>& features,
-                          const std::vector<int>& assignment, int k, bool nearestMean, std::vector<Frame>& frames,
-                          std::vector<int>& frameOfCluster) {
-  std::vector<std::array<double, kFeatureDims>> means(static_cast<size_t>(k));
-  std::vector<size_t> counts(size_t(k), 0);
-  for (auto& m : means) m.fill(0.0);
-  for (size_t j = 0; j < boxes.size(); ++j) {
-    ++counts[size_t(assignment[j])];
-    for (int d = 0; d < kFeatureDims; ++d) means[size_t(assignment[j])][size_t(d)] += features[j][size_t(d)];
-  }
-  auto distanceToMean = [&](size_t j) {
-    const size_t c = size_t(assignment[j]);
-    double sum = 0.0;
-    for (int d = 0; d < kFeatureDims; ++d) {
-      const double e = features[j][size_t(d)] - means[c][size_t(d)] / double(counts[c]);
-      sum += e * e;
-    }
-    return sum;
-  };
-  std::vector<int> representative(size_t(k), -1);
-  for (size_t j = 0; j < boxes.size(); ++j) {
-    int& r = representative[size_t(assignment[j])];
-    const bool better = nearestMean ? r < 0 || distanceToMean(j) < distanceToMean(size_t(r))
-                                    : r < 0 || boxes[j].halfArea() > boxes[size_t(r)].halfArea();
-    if (better) r = int(j);
-  }
-  frameOfCluster.assign(size_t(k), -1);
-  for (size_t c = 0; c < representative.size(); ++c)
-    if (representative[c] >= 0) {
-      frameOfCluster[c] = int(frames.size());
-      const Obb& b = boxes[size_t(representative[c])];
-      frames.push_back({{b.axis[0], b.axis[1], b.axis[2]}});
-    }
-}
-
 }  // namespace
 
 OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* triangles, const BuildOptions& options) {
@@ -310,7 +173,8 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
       for (size_t j = 0; j < boxes.size(); ++j)
         if (assignment[j] > 0)
           framedBoxes.push_back(boxes[j]), framedFeatures.push_back(features[j]), framedAssignment.push_back(assignment[j] - 1);
-      representativeFrames(framedBoxes, framedFeatures, framedAssignment, k, true, clusterFrames, frameOfCluster);
+      representativeFrames(framedBoxes, framedFeatures, framedAssignment, k, Representative::NearestMean, clusterFrames,
+                           frameOfCluster);
       std::vector<float> bestArea(members.size());
       std::vector<Obb> best(members.size());
       for (size_t j = 0; j < members.size(); ++j) bestArea[j] = aabbArea(members[j]);
@@ -343,7 +207,8 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
       for (size_t j = 0; j < leaves.size(); ++j) features[j] = leafClusterFeatures(leafBoxes[j], sceneSize);
       const std::vector<int> assignment = kMeans(features, options.obbClusters);
       std::vector<int> frameOfCluster;
-      representativeFrames(leafBoxes, features, assignment, options.obbClusters, false, clusterFrames, frameOfCluster);
+      representativeFrames(leafBoxes, features, assignment, options.obbClusters, Representative::LargestBox, clusterFrames,
+                           frameOfCluster);
       tbb::parallel_for(size_t(0), leaves.size(), [&](size_t j) {
         const size_t node = leaves[j];
         const Frame& frame = clusterFrames[size_t(frameOfCluster[size_t(assignment[j])])];
