@@ -1,8 +1,10 @@
 // The oriented layouts (accel=obb, accel=hybrid) with four or eight children a node: each child is
 // bounded by a box in its own frame (an axis-aligned child has the identity frame and is tested
 // exactly), and one SIMD pass transforms the ray into the children's frames and runs their slab
-// tests. Leaves are TriangleBlock4 groups as in the wide AABB layouts. Collapsed from the binary
-// oriented tree as the cut of least SAH cost (oriented_wide_collapse.cpp).
+// tests; with a frame palette (obb_palette) a node whose children all have palette frames takes
+// the ray's transform from the palette instead. Leaves are TriangleBlock4 groups as in the wide
+// AABB layouts. Collapsed from the binary oriented tree as the cut of least SAH cost
+// (oriented_wide_collapse.cpp).
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,6 @@
 // Ray queries against the wide oriented layouts (oriented_wide_bvh.h): the ray is transformed into
-// the children's frames in one SIMD pass, children are visited near to far for closest hits, and
+// the children's frames in one SIMD pass (or, on eight-wide nodes of a palette tree, once a ray
+// into the palette's frames), children are visited near to far for closest hits, and
 // leaves are tested as blocks of four triangles like the wide AABB layouts' leaves. Four-wide
 // nodes run on SSE2, which every x86-64 CPU has; eight-wide nodes need AVX2.
 #pragma once
