@@ -111,6 +111,10 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       } else {
         fail(RTC_ERROR_INVALID_ARGUMENT, "unknown intersector '" + value + "' (available: watertight, fast)");
       }
+    } else if (name == "child_order") {
+      if (value == "near_to_far" || value == "default") config.childOrder = ChildOrder::NearToFar;
+      else if (value == "fixed") config.childOrder = ChildOrder::Fixed;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown child_order '" + value + "' (available: near_to_far, fixed, default)");
     } else if (name == "ray_mask") {
       if (value == "on") config.rayMasks = true;
       else if (value == "off") config.rayMasks = false;

@@ -17,6 +17,7 @@ struct DeviceConfig {
   AccelLayout accel = fastestAccel();
   // RTC_SCENE_FLAG_ROBUST always selects the watertight test; this is the default for other scenes.
   IntersectorMode intersector = IntersectorMode::Watertight;
+  ChildOrder childOrder = ChildOrder::NearToFar;  // closest-hit single rays in bvh4/bvh8
   int buildBins = 32;
   int maxLeafSize = 0;  // 0: the layout's and builder's default (defaultMaxLeafSize)
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions

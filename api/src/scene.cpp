@@ -208,6 +208,7 @@ void Scene::rebuild() {
   BuildOptions options;
   options.layout = device_->config().accel;
   options.intersector = (flags_ & RTC_SCENE_FLAG_ROBUST) ? IntersectorMode::Watertight : device_->config().intersector;
+  options.childOrder = device_->config().childOrder;
   options.quality = quality_ == RTC_BUILD_QUALITY_HIGH  ? BuildQuality::High
                     : quality_ == RTC_BUILD_QUALITY_LOW ? BuildQuality::Low
                                                         : BuildQuality::Medium;

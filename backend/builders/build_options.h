@@ -27,6 +27,10 @@ enum class WideCollapse { Greedy, SahOptimal };
 // Which triangle test queries use.
 enum class IntersectorMode { Watertight, Fast };
 
+// The order in which closest-hit single rays visit the children they enter in the wide layouts:
+// near to far (sorted by entry distance), or the node's fixed lane order (larger child first).
+enum class ChildOrder { NearToFar, Fixed };
+
 // The leaf size when the device config does not set one (BuildOptions::maxLeafSize = 0). The
 // wide layouts let the SAH-driven builders (binned, spatial-split, distance) choose leaves of up
 // to seven blocks of four triangles, as Embree's BVH8 leaves allow: on slanted stacks, whose
@@ -47,6 +51,7 @@ constexpr int kDefaultObbPalette = kMaxPaletteFrames;
 struct BuildOptions {
   AccelLayout layout = AccelLayout::Bvh4;
   IntersectorMode intersector = IntersectorMode::Watertight;
+  ChildOrder childOrder = ChildOrder::NearToFar;
   BuildQuality quality = BuildQuality::Medium;
   float spatialBudget = 1.0f;     // High: extra triangle references allowed, as a fraction of the triangle count
   int binCount = 32;

@@ -249,10 +249,10 @@ void SceneAccel::makeTriangleViews() {
   collapse.maxLeafPrims = uint32_t(std::max(options_.maxLeafSize, 1));
   if (layout_ == AccelLayout::Bvh4) {
     triangleBvh4_ = collapseToWide<4>(triangleBvh_, triangles_.data(), collapse);
-    triangleView4_ = makeWideView(triangleBvh4_, set);
+    triangleView4_ = makeWideView(triangleBvh4_, set, options_.childOrder);
   } else if (layout_ == AccelLayout::Bvh8) {
     triangleBvh8_ = collapseToWide<8>(triangleBvh_, triangles_.data(), collapse);
-    triangleView8_ = makeWideView(triangleBvh8_, set);
+    triangleView8_ = makeWideView(triangleBvh8_, set, options_.childOrder);
   }
 }
 
@@ -293,7 +293,8 @@ Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle
 }
 
 bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
-  return a.layout == b.layout && a.intersector == b.intersector && a.binCount == b.binCount &&
+  return a.layout == b.layout && a.intersector == b.intersector && a.childOrder == b.childOrder &&
+         a.binCount == b.binCount &&
          a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters && a.obbPalette == b.obbPalette &&
          a.obbWidth == b.obbWidth &&
          a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&

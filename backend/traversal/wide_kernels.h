@@ -7,14 +7,22 @@
 
 namespace obvh {
 
+// One table per child order of closest-hit single rays (packets and any-hit queries are the same
+// in both).
 template <typename FN, typename F4>
-const WideKernels<FN::kWidth>& makeWideKernels() {
-  static const WideKernels<FN::kWidth> kernels{&intersectClosestWideImpl<FN, F4>, &intersectAnyWideImpl<FN, F4>,
-                                               &intersectClosestWidePacketImpl<FN, F4>,
-                                               &intersectAnyWidePacketImpl<FN, F4>,
-                                               &intersectClosestWideImpl<FN, F4, true>,
-                                               &intersectAnyWideImpl<FN, F4, true>};
-  return kernels;
+const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
+  static const WideKernels<FN::kWidth> nearToFar{&intersectClosestWideImpl<FN, F4>, &intersectAnyWideImpl<FN, F4>,
+                                                 &intersectClosestWidePacketImpl<FN, F4>,
+                                                 &intersectAnyWidePacketImpl<FN, F4>,
+                                                 &intersectClosestWideImpl<FN, F4, true>,
+                                                 &intersectAnyWideImpl<FN, F4, true>};
+  static const WideKernels<FN::kWidth> laneOrder{&intersectClosestWideImpl<FN, F4, false, false>,
+                                                 &intersectAnyWideImpl<FN, F4>,
+                                                 &intersectClosestWidePacketImpl<FN, F4>,
+                                                 &intersectAnyWidePacketImpl<FN, F4>,
+                                                 &intersectClosestWideImpl<FN, F4, true, false>,
+                                                 &intersectAnyWideImpl<FN, F4, true>};
+  return order == ChildOrder::NearToFar ? nearToFar : laneOrder;
 }
 
 }  // namespace obvh

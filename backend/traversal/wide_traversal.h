@@ -3,6 +3,7 @@
 // Every kernel also exists as a scalar reference; a CPU check picks the best one at run time.
 #pragma once
 
+#include "builders/build_options.h"
 #include "bvh/wide_bvh.h"
 #include "traversal/triangle_leaf.h"
 
@@ -46,22 +47,23 @@ struct WideKernels {
 };
 
 // Defined in wide_traversal_<isa>.cpp, each compiled for its instruction set.
-const WideKernels<4>& bvh4ScalarKernels();
-const WideKernels<8>& bvh8ScalarKernels();
-const WideKernels<4>& bvh4Sse42Kernels();
-const WideKernels<8>& bvh8Avx2Kernels();
+const WideKernels<4>& bvh4ScalarKernels(ChildOrder order);
+const WideKernels<8>& bvh8ScalarKernels(ChildOrder order);
+const WideKernels<4>& bvh4Sse42Kernels(ChildOrder order);
+const WideKernels<8>& bvh8Avx2Kernels(ChildOrder order);
 
 template <int N>
-const WideKernels<N>& wideKernels(KernelIsa isa) {
-  if constexpr (N == 4) return isa == KernelIsa::Simd ? bvh4Sse42Kernels() : bvh4ScalarKernels();
-  else return isa == KernelIsa::Simd ? bvh8Avx2Kernels() : bvh8ScalarKernels();
+const WideKernels<N>& wideKernels(KernelIsa isa, ChildOrder order = ChildOrder::NearToFar) {
+  if constexpr (N == 4) return isa == KernelIsa::Simd ? bvh4Sse42Kernels(order) : bvh4ScalarKernels(order);
+  else return isa == KernelIsa::Simd ? bvh8Avx2Kernels(order) : bvh8ScalarKernels(order);
 }
 
 template <int N>
-TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set) {
+TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set,
+                                 ChildOrder order = ChildOrder::NearToFar) {
   const Box3f root = bvh.rootNodeBox();
   const float extent = root.empty() ? 0.f : (root.upper - root.lower)[root.largestAxis()];
-  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N)), extent};
+  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N), order), extent};
 }
 
 // Both count into state.counters when it is set. Without an isa, the view's kernels run.

@@ -26,7 +26,9 @@
 
 namespace obvh {
 
-const WideKernels<8>& bvh8Avx2Kernels() { return makeWideKernels<simd::Float8Avx, simd::Float4Sse>(); }
+const WideKernels<8>& bvh8Avx2Kernels(ChildOrder order) {
+  return makeWideKernels<simd::Float8Avx, simd::Float4Sse>(order);
+}
 
 }  // namespace obvh
 

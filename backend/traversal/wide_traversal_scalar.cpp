@@ -4,7 +4,11 @@
 
 namespace obvh {
 
-const WideKernels<4>& bvh4ScalarKernels() { return makeWideKernels<simd::Float4Scalar, simd::Float4Scalar>(); }
-const WideKernels<8>& bvh8ScalarKernels() { return makeWideKernels<simd::Float8Scalar, simd::Float4Scalar>(); }
+const WideKernels<4>& bvh4ScalarKernels(ChildOrder order) {
+  return makeWideKernels<simd::Float4Scalar, simd::Float4Scalar>(order);
+}
+const WideKernels<8>& bvh8ScalarKernels(ChildOrder order) {
+  return makeWideKernels<simd::Float8Scalar, simd::Float4Scalar>(order);
+}
 
 }  // namespace obvh

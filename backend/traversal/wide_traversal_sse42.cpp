@@ -19,7 +19,9 @@
 
 namespace obvh {
 
-const WideKernels<4>& bvh4Sse42Kernels() { return makeWideKernels<simd::Float4Sse, simd::Float4Sse>(); }
+const WideKernels<4>& bvh4Sse42Kernels(ChildOrder order) {
+  return makeWideKernels<simd::Float4Sse, simd::Float4Sse>(order);
+}
 
 }  // namespace obvh
 

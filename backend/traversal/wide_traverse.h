@@ -127,15 +127,15 @@ struct AxisAlignedWideNodes {
 
 // Visits the leaves the ray enters from node start (a packet hands a ray over to it mid-tree);
 // see walkWideTree.
-template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
+template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
-  walkWideTree<FN::kWidth, kNearToFar, kCounted>(AxisAlignedWideNodes<FN>{bvh, frame}, start, ray, leafVisitor,
-                                                 counters);
+  walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN>{bvh, frame}, start, ray, leafVisitor,
+                                                        counters);
 }
 
-template <typename FN, bool kNearToFar, bool kCounted = false, typename LeafVisitor>
+template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>
 void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor,
                   TraversalCounters* counters = nullptr) {
   using Node = WideNode<FN::kWidth>;
@@ -145,14 +145,15 @@ void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafV
     leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
     return;
   }
-  traverseWideFrom<FN, kNearToFar, kCounted>(bvh, bvh.root, WideRayFrame<FN>(ray), ray, leafVisitor, counters);
+  traverseWideFrom<FN, kClosest, kCounted, kSorted>(bvh, bvh.root, WideRayFrame<FN>(ray), ray, leafVisitor, counters);
 }
 
-template <typename FN, typename F4, bool kCounted = false>
+// kSorted: children near to far, else in lane order (ChildOrder).
+template <typename FN, typename F4, bool kCounted = false, bool kSorted = true>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
   WatertightRayOnDemand watertight;
   bool found = false;
-  traverseWide<FN, true, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, true, kCounted, kSorted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
                                                                watertight.of(ray, bvh.set), ray, hit, state);
     return false;

@@ -20,12 +20,15 @@
 
 namespace obvh {
 
-// Visits the leaves the ray enters, near to far when kNearToFar (closest hit; any-hit queries skip
-// the sorting); leafVisitor(firstBlock, blockCount) returns true to stop. kCounted adds volume tests
-// and leaf visits to *counters (a separate instantiation, so the normal path pays nothing).
+// Visits the leaves the ray enters; leafVisitor(firstBlock, blockCount) returns true to stop.
+// kClosest: a closest-hit query, whose leaves shorten the ray (any-hit queries stop instead).
+// kSorted: the entered children of a node are visited near to far (closest hit's default); else in
+// the node's lane order (larger first, see the collapse), which any-hit queries use and closest-hit
+// ones may (device config child_order=fixed). kCounted adds volume tests and leaf visits to
+// *counters (a separate instantiation, so the normal path pays nothing).
 // Always inlined, so that the ray's per-layout data stays in registers (passed by reference to a
 // call it cost ~15 instructions a ray).
-template <int N, bool kNearToFar, bool kCounted, typename Nodes, typename LeafVisitor>
+template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, typename Nodes, typename LeafVisitor>
 [[gnu::always_inline]] inline void walkWideTree(const Nodes& nodes, uint32_t start, const Ray& ray,
                                                 LeafVisitor&& leafVisitor, TraversalCounters* counters) {
   using Codes = WideNode<N>;
@@ -37,7 +40,7 @@ template <int N, bool kNearToFar, bool kCounted, typename Nodes, typename LeafVi
   const float initialTfar = ray.tfar;
   float limit = ray.tfar;
   const auto updateLimit = [&] {
-    limit = kNearToFar && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
+    limit = kClosest && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
   };
   StackEntry stack[(N - 1) * 128];
   int top = 0;
@@ -62,12 +65,23 @@ template <int N, bool kNearToFar, bool kCounted, typename Nodes, typename LeafVi
         current = child[__builtin_ctz(unsigned(mask))];
         continue;
       }
-      if (!kNearToFar) {
+      if (!kSorted && !kClosest) {
         current = child[__builtin_ctz(unsigned(mask))];
         mask &= mask - 1;
         while (mask) {
           const int lane = __builtin_ctz(unsigned(mask));
           mask &= mask - 1;
+          nodes.prefetch(child[lane]);
+          stack[top++] = {child[lane], entry[lane]};
+        }
+        continue;
+      }
+      if (!kSorted) {  // lane order: the lowest lane now, the others pushed highest first
+        current = child[__builtin_ctz(unsigned(mask))];
+        mask &= mask - 1;
+        while (mask) {
+          const int lane = 31 - __builtin_clz(unsigned(mask));
+          mask &= ~(1 << lane);
           nodes.prefetch(child[lane]);
           stack[top++] = {child[lane], entry[lane]};
         }

@@ -151,16 +151,20 @@ bool expectKernelsAnswerLikeTheBinaryTree(const Layouts<N>& l, const Ray& ray) {
   const bool f2 = intersectClosest(l.view2, r2, h2, state);
   const bool any2 = intersectAny(l.view2, ray, state);
   for (KernelIsa isa : kernels) {
-    Ray r = ray;
-    Hit h;
-    EXPECT_EQ(intersectClosestWide(l.view, r, h, state, isa), f2) << "width " << N << " isa " << int(isa);
     EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2);
-    if (!f2) continue;
-    EXPECT_EQ(r.tfar, r2.tfar);
-    EXPECT_EQ(h.primID, h2.primID);
-    EXPECT_EQ(h.u, h2.u);
-    EXPECT_EQ(h.v, h2.v);
-    EXPECT_EQ(h.Ng.x, h2.Ng.x);
+    // Closest hits in either child order (device config child_order).
+    for (ChildOrder order : {ChildOrder::NearToFar, ChildOrder::Fixed}) {
+      Ray r = ray;
+      Hit h;
+      EXPECT_EQ(intersectClosestWide(l.view, r, h, state, wideKernels<N>(isa, order)), f2)
+          << "width " << N << " isa " << int(isa) << " order " << int(order);
+      if (!f2) continue;
+      EXPECT_EQ(r.tfar, r2.tfar);
+      EXPECT_EQ(h.primID, h2.primID) << "order " << int(order);
+      EXPECT_EQ(h.u, h2.u);
+      EXPECT_EQ(h.v, h2.v);
+      EXPECT_EQ(h.Ng.x, h2.Ng.x);
+    }
   }
   return f2;
 }

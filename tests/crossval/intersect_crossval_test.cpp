@@ -66,7 +66,8 @@ TEST_P(CrossvalAabbLayouts, MatchEmbree) {
 INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
                          ::testing::Values("accel=bvh2", "accel=bvh4", "accel=bvh8", "accel=bvh4,max_leaf_size=11",
                                            "accel=bvh8,max_leaf_size=7", "accel=bvh8,max_leaf_size=1",
-                                           "accel=bvh8,collapse=greedy", "accel=bvh4,collapse=greedy"));
+                                           "accel=bvh8,collapse=greedy", "accel=bvh4,collapse=greedy",
+                                           "accel=bvh8,child_order=fixed", "accel=bvh4,child_order=fixed"));
 
 // Every build quality, both libraries at the same level: HIGH is obvh's spatial-split builder
 // (triangles referenced from several leaves), on long slanted lines where it splits the most.
