@@ -29,15 +29,16 @@ template <typename FN>
 struct WideRayFrame {
   FN org[3], invDir[3];
   float inv[3];               // 1/dir per axis, as invDir holds it in every lane
-  int nearRow[3], farRow[3];  // rows of WideNode::bounds holding each axis' entry and exit planes
-  // nearRow as byte offsets into WideNode::bounds; the far row's is nearByte ^ (bytes of a row).
-  // Three offsets, where six row indices were reloaded from the stack at every node.
+  // The rows of WideNode::bounds holding each axis' entry plane (entryRow) as byte offsets; the
+  // exit plane's is nearByte ^ (bytes of a row). Three offsets, where six row indices were
+  // reloaded from the stack at every node.
   uint32_t nearByte[3];
   bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
 
   WideRayFrame() = default;
-  explicit WideRayFrame(const Ray& ray) : anyZero(false) {
+  // Always inlined: as a call (GCC kept it out of line) the frame went through memory.
+  [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) : anyZero(false) {
     for (int axis = 0; axis < 3; ++axis) {
       zero[axis] = ray.dir[axis] == 0.f;
       // Without branches: a zero direction's 1/dir is inf (never read: such an axis takes the
@@ -50,9 +51,7 @@ struct WideRayFrame {
       // The slab distances of the planes entered and left first are the values the min/max form
       // picks, without computing both.
       const bool negative = ray.dir[axis] < 0.f;
-      nearRow[axis] = entryRow(axis, negative);
-      farRow[axis] = exitRow(axis, negative);
-      nearByte[axis] = uint32_t(nearRow[axis]) * uint32_t(FN::kWidth * sizeof(float));
+      nearByte[axis] = uint32_t(entryRow(axis, negative)) * uint32_t(FN::kWidth * sizeof(float));
     }
   }
 };
