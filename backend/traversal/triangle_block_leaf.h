@@ -253,7 +253,8 @@ template <typename F4, typename D4>
   bool found = false;
   for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
     const TriangleBlock4& block = blocks[b];
-    visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
+    // Inlined (GCC kept this lambda out of line: a call with vzeroupper for every accepted hit).
+    visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) __attribute__((always_inline)) {
       if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
           !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, false))
         return false;
