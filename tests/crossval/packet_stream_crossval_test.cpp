@@ -137,6 +137,28 @@ TEST(CrossvalPackets, Occluded4_8_16WithPartialValidMasks) {
   runOccludedPackets<16, RTCRay16>(f, f.libs.embree->rtcOccluded16, f.libs.obvh->rtcOccluded16, "rtcOccluded16");
 }
 
+// Valid lanes whose segment is empty (tnear > tfar, as shadow rays behind pixels without a hit are
+// made) or a single point (tnear == tfar), scattered and in runs of 32 that fill whole packets.
+TEST(CrossvalPackets, EmptySegmentsAreAnsweredLikeEmbree) {
+  Fixture f;
+  for (size_t i = 0; i < f.rays.size(); ++i) {
+    RTCRay& r = f.rays[i];
+    if (i % 3 == 0 || (i / 32) % 5 == 0) {
+      r.tnear = 1.f, r.tfar = 0.f;
+    } else if (i % 7 == 0) {
+      r.tnear = r.tfar = 0.5f;
+    }
+  }
+  runIntersectPackets<4, RTCRayHit4>(f, f.libs.embree->rtcIntersect4, f.libs.obvh->rtcIntersect4, "rtcIntersect4, empty segments");
+  runIntersectPackets<8, RTCRayHit8>(f, f.libs.embree->rtcIntersect8, f.libs.obvh->rtcIntersect8, "rtcIntersect8, empty segments");
+  runIntersectPackets<16, RTCRayHit16>(f, f.libs.embree->rtcIntersect16, f.libs.obvh->rtcIntersect16,
+                                       "rtcIntersect16, empty segments");
+  runOccludedPackets<4, RTCRay4>(f, f.libs.embree->rtcOccluded4, f.libs.obvh->rtcOccluded4, "rtcOccluded4, empty segments");
+  runOccludedPackets<8, RTCRay8>(f, f.libs.embree->rtcOccluded8, f.libs.obvh->rtcOccluded8, "rtcOccluded8, empty segments");
+  runOccludedPackets<16, RTCRay16>(f, f.libs.embree->rtcOccluded16, f.libs.obvh->rtcOccluded16,
+                                   "rtcOccluded16, empty segments");
+}
+
 std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
   std::vector<RTCRayHit> out(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
