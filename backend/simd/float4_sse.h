@@ -12,6 +12,11 @@ struct Float4Sse {
   static Float4Sse broadcast(float x) { return {_mm_set1_ps(x)}; }
   static Float4Sse load(const float* p) { return {_mm_load_ps(p)}; }  // p is 16-byte aligned
   void store(float* p) const { _mm_store_ps(p, v); }
+  // See Float8Avx::fromLanes.
+  template <typename LaneValue>
+  static Float4Sse fromLanes(LaneValue&& laneValue) {
+    return {_mm_setr_ps(laneValue(0), laneValue(1), laneValue(2), laneValue(3))};
+  }
   static Float4Sse loadUnaligned(const float* p) { return {_mm_loadu_ps(p)}; }
   void storeUnaligned(float* p) const { _mm_storeu_ps(p, v); }
   // Truncates each lane toward zero, as a float-to-int cast does for values in range.

@@ -17,6 +17,13 @@ struct Float8Avx {
   OBVH_AVX2 static Float8Avx broadcast(float x) { return {_mm256_set1_ps(x)}; }
   OBVH_AVX2 static Float8Avx load(const float* p) { return {_mm256_load_ps(p)}; }  // p is 32-byte aligned
   OBVH_AVX2 void store(float* p) const { _mm256_store_ps(p, v); }
+  // Lane i is laneValue(i), assembled in registers: values just written one by one and loaded as a
+  // vector would wait for the stores to retire (a store-forwarding stall).
+  template <typename LaneValue>
+  OBVH_AVX2 static Float8Avx fromLanes(LaneValue&& laneValue) {
+    return {_mm256_setr_ps(laneValue(0), laneValue(1), laneValue(2), laneValue(3), laneValue(4), laneValue(5),
+                           laneValue(6), laneValue(7))};
+  }
 
   OBVH_AVX2 friend Float8Avx operator+(Float8Avx a, Float8Avx b) { return {_mm256_add_ps(a.v, b.v)}; }
   OBVH_AVX2 friend Float8Avx operator-(Float8Avx a, Float8Avx b) { return {_mm256_sub_ps(a.v, b.v)}; }

@@ -24,6 +24,12 @@ struct FloatScalar {
     return r;
   }
   void store(float* p) const { std::copy(v, v + N, p); }
+  template <typename LaneValue>
+  static FloatScalar fromLanes(LaneValue&& laneValue) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = laneValue(i);
+    return r;
+  }
 
   template <typename Op>
   static FloatScalar map(const FloatScalar& a, const FloatScalar& b, Op op) {

@@ -2,6 +2,7 @@
 // outside the lane-by-lane arithmetic the traversal tests already compare.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -15,6 +16,9 @@ namespace {
 // Each SIMD type is exercised inside one function compiled for its instruction set, so no vector
 // value crosses between code of different targets (their calling conventions differ).
 float sseMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Float4Sse::load(values), mask); }
+void sseFromLanes(const float* values, float* out) {
+  simd::Float4Sse::fromLanes([&](int lane) { return values[lane]; }).store(out);
+}
 
 }  // namespace
 }  // namespace obvh
@@ -25,6 +29,9 @@ float sseMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Flo
 namespace obvh {
 namespace {
 float avxMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Float8Avx::load(values), mask); }
+void avxFromLanes(const float* values, float* out) {
+  simd::Float8Avx::fromLanes([&](int lane) { return values[lane]; }).store(out);
+}
 }  // namespace
 }  // namespace obvh
 #pragma GCC pop_options
@@ -50,6 +57,25 @@ void expectMinOfLanesMatchesReference(float (*simdMinOfLanes)(const float*, int)
 TEST(SimdLanes, MinOfLanesMatchesTheScalarReference) {
   expectMinOfLanesMatchesReference<4>(sseMinOfLanes);
   if (simd::cpuHasAvx2()) expectMinOfLanesMatchesReference<8>(avxMinOfLanes);
+}
+
+// fromLanes puts lane i's value in lane i, in the SIMD types as in the reference.
+template <int N>
+void expectFromLanesMatchesReference(void (*simdFromLanes)(const float*, float*)) {
+  alignas(32) const float values[8] = {1.f, -2.f, 3.5f, -0.f, std::numeric_limits<float>::infinity(), 6.f, 7.f, -8.f};
+  alignas(32) float simd[8] = {}, reference[8] = {};
+  simdFromLanes(values, simd);
+  simd::FloatScalar<N>::fromLanes([&](int lane) { return values[lane]; }).store(reference);
+  for (int lane = 0; lane < N; ++lane) {
+    EXPECT_EQ(reference[lane], values[lane]) << "lane " << lane;
+    EXPECT_EQ(simd[lane], values[lane]) << "lane " << lane;
+    EXPECT_EQ(std::signbit(simd[lane]), std::signbit(values[lane])) << "lane " << lane;
+  }
+}
+
+TEST(SimdLanes, FromLanesMatchesTheScalarReference) {
+  expectFromLanesMatchesReference<4>(sseFromLanes);
+  if (simd::cpuHasAvx2()) expectFromLanesMatchesReference<8>(avxFromLanes);
 }
 
 // The reference itself: the smallest of the lanes in the mask only, +inf for none.

@@ -292,7 +292,10 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
     const uint32_t active = p % 3 == 0 ? 0xFFFFu : uint32_t(0x5A5Bu ^ p) & 0xFFFFu;
     for (int r = 0; r < 16; ++r) {
       rays[r] = pool[p * 16 + r];
-      if (p % 2) rays[r].org = pool[p * 16].org;  // a common origin: coherent lanes
+      // A common origin: coherent lanes; every eighth packet keeps its rays' own origins with one
+      // direction sign per axis (below), as shadow rays from neighbouring hits have, which tests the
+      // packet's origin bounds (PacketLanes::mayEnter).
+      if (p % 2 && p % 8 != 5) rays[r].org = pool[p * 16].org;
       if (p % 4 == 1) {
         // Also one sign per axis and no zero component, like a camera's rays: the packet then
         // tests each child box against its rays as SIMD lanes (PacketLanes).
@@ -345,6 +348,58 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
     }
   }
   EXPECT_GT(hits, 300u);
+}
+
+// Packets whose rays share their direction signs but start far apart (shadow rays from hits
+// spread over a surface towards one light): every box some ray enters must pass the packet's
+// bounds test (PacketLanes::mayEnter, built from the rays' origin and 1/dir ranges).
+template <int N>
+void expectSpreadOriginPacketsMatchSingleRays(KernelIsa isa) {
+  Layouts<N> l(test::quadGrid(40, 0.3f, 11), 4);
+  Box3f box;
+  for (const StoredTriangle& tri : l.triangles) box.extend(tri.v0), box.extend(tri.v1), box.extend(tri.v2);
+  const Vec3f extent = box.upper - box.lower;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  const QueryState state;
+  size_t hits = 0, occluded = 0;
+  for (int p = 0; p < 600; ++p) {
+    // A light beyond one corner of the scene, so that every ray's direction has one sign per axis.
+    Vec3f light;
+    for (int axis = 0; axis < 3; ++axis)
+      light[axis] = p & (1 << axis) ? box.upper[axis] + extent[axis] : box.lower[axis] - extent[axis];
+    Ray rays[kMaxPacketSize];
+    for (int r = 0; r < 16; ++r) {
+      for (int axis = 0; axis < 3; ++axis) rays[r].org[axis] = box.lower[axis] + unit(rng) * extent[axis];
+      rays[r].dir = light - rays[r].org;
+      rays[r].tnear = 0.f;
+      rays[r].tfar = p % 3 ? 1.f : std::numeric_limits<float>::infinity();
+    }
+    Ray packetRays[kMaxPacketSize];
+    Hit packetHits[kMaxPacketSize];
+    std::copy(rays, rays + 16, packetRays);
+    const uint32_t found = intersectClosestWidePacket(l.view, packetRays, packetHits, 0xFFFFu, state, isa);
+    const uint32_t blocked = intersectAnyWidePacket(l.view, rays, 0xFFFFu, state, isa);
+    for (int r = 0; r < 16; ++r) {
+      Ray single = rays[r];
+      Hit hit;
+      const bool f = intersectClosestWide(l.view, single, hit, state, isa);
+      ASSERT_EQ(bool((found >> r) & 1), f) << "packet " << p << " lane " << r;
+      ASSERT_EQ(bool((blocked >> r) & 1), intersectAnyWide(l.view, rays[r], state, isa)) << "packet " << p << " lane " << r;
+      if (f) EXPECT_EQ(packetRays[r].tfar, single.tfar) << "packet " << p << " lane " << r;
+      hits += f;
+      occluded += (blocked >> r) & 1;
+    }
+  }
+  EXPECT_GT(hits, 1000u);
+  EXPECT_GT(occluded, 1000u);
+}
+
+TEST(WideBvh, PacketsWithSpreadOriginsMatchSingleRays) {
+  expectSpreadOriginPacketsMatchSingleRays<4>(KernelIsa::Scalar);
+  expectSpreadOriginPacketsMatchSingleRays<8>(KernelIsa::Scalar);
+  expectSpreadOriginPacketsMatchSingleRays<4>(bestKernelIsa(4));
+  expectSpreadOriginPacketsMatchSingleRays<8>(bestKernelIsa(8));
 }
 
 TEST(WideBvh, PacketsMatchSingleRays) {
