@@ -375,12 +375,19 @@ void expectSpreadOriginPacketsMatchSingleRays(KernelIsa isa) {
       rays[r].tnear = 0.f;
       rays[r].tfar = p % 3 ? 1.f : std::numeric_limits<float>::infinity();
     }
+    // Every fourth packet has its first eight lanes idle (a lane group without rays).
+    const uint32_t active = p % 4 == 0 ? 0xFF00u : 0xFFFFu;
     Ray packetRays[kMaxPacketSize];
     Hit packetHits[kMaxPacketSize];
     std::copy(rays, rays + 16, packetRays);
-    const uint32_t found = intersectClosestWidePacket(l.view, packetRays, packetHits, 0xFFFFu, state, isa);
-    const uint32_t blocked = intersectAnyWidePacket(l.view, rays, 0xFFFFu, state, isa);
+    const uint32_t found = intersectClosestWidePacket(l.view, packetRays, packetHits, active, state, isa);
+    const uint32_t blocked = intersectAnyWidePacket(l.view, rays, active, state, isa);
     for (int r = 0; r < 16; ++r) {
+      if (!((active >> r) & 1)) {
+        EXPECT_FALSE(((found | blocked) >> r) & 1) << "packet " << p << " idle lane " << r;
+        EXPECT_EQ(packetRays[r].tfar, rays[r].tfar);
+        continue;
+      }
       Ray single = rays[r];
       Hit hit;
       const bool f = intersectClosestWide(l.view, single, hit, state, isa);
