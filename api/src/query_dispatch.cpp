@@ -87,8 +87,8 @@ Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
 // Converts the live lanes of [first, first + count) into rays[0..count) and returns their mask: a
 // lane is live when it is active and its segment is not empty (tnear > tfar). Empty segments, as a
 // shadow packet's lanes behind pixels without a hit are, can never report anything, and the backend
-// would drop them anyway (PacketFrames); not converting them saved most of the time a packet of
-// them took (obvh 34 ns, Embree 12 ns a packet of eight before).
+// would drop them anyway (PacketFrames); not converting them took a packet of eight such lanes
+// from 34 to 10 ns (Embree: 12 ns).
 uint32_t gatherLiveLanes(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count, bool masksOn,
                          Ray* rays) {
   uint32_t live = 0;

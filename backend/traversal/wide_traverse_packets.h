@@ -57,6 +57,7 @@ struct PacketLanes {
       const auto lanes = [&](auto value, float idle) {
         return FN::fromLanes([&](int lane) { return (on >> lane) & 1 ? value(rays[base + lane]) : idle; });
       };
+      const auto maxOfLanes = [&](const FN& x) { return -minOfLanes(zero - x, on); };
       // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
       const FN tn = lanes([](const Ray& r) { return r.tnear; }, std::numeric_limits<float>::infinity());
       tn.store(tnear + base);
@@ -78,9 +79,9 @@ struct PacketLanes {
         inv.store(invDir[axis] + base);
         negative[axis] |= (lessMask(d, zero) & on) << base;
         orgLow[axis] = std::min(orgLow[axis], minOfLanes(o, on));
-        orgHigh[axis] = std::max(orgHigh[axis], -minOfLanes(zero - o, on));
+        orgHigh[axis] = std::max(orgHigh[axis], maxOfLanes(o));
         invLow[axis] = std::min(invLow[axis], minOfLanes(inv, on));
-        invHigh[axis] = std::max(invHigh[axis], -minOfLanes(zero - inv, on));
+        invHigh[axis] = std::max(invHigh[axis], maxOfLanes(inv));
       }
     }
     for (int axis = 0; axis < 3; ++axis) {
