@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "crossval_harness.h"
 #include "test_scenes.h"
@@ -123,18 +124,31 @@ void runOccludedPackets(Fixture& f, Occluded embreeCall, Occluded obvhCall, cons
   EXPECT_EQ(touchedInactive, 0u) << "obvh wrote to inactive lanes";
 }
 
+// rtcIntersect4/8/16 and rtcOccluded4/8/16 over the fixture's rays; labels end in `suffix`.
+void runIntersectPacketWidths(Fixture& f, const std::string& suffix) {
+  runIntersectPackets<4, RTCRayHit4>(f, f.libs.embree->rtcIntersect4, f.libs.obvh->rtcIntersect4,
+                                     ("rtcIntersect4" + suffix).c_str());
+  runIntersectPackets<8, RTCRayHit8>(f, f.libs.embree->rtcIntersect8, f.libs.obvh->rtcIntersect8,
+                                     ("rtcIntersect8" + suffix).c_str());
+  runIntersectPackets<16, RTCRayHit16>(f, f.libs.embree->rtcIntersect16, f.libs.obvh->rtcIntersect16,
+                                       ("rtcIntersect16" + suffix).c_str());
+}
+
+void runOccludedPacketWidths(Fixture& f, const std::string& suffix) {
+  runOccludedPackets<4, RTCRay4>(f, f.libs.embree->rtcOccluded4, f.libs.obvh->rtcOccluded4, ("rtcOccluded4" + suffix).c_str());
+  runOccludedPackets<8, RTCRay8>(f, f.libs.embree->rtcOccluded8, f.libs.obvh->rtcOccluded8, ("rtcOccluded8" + suffix).c_str());
+  runOccludedPackets<16, RTCRay16>(f, f.libs.embree->rtcOccluded16, f.libs.obvh->rtcOccluded16,
+                                   ("rtcOccluded16" + suffix).c_str());
+}
+
 TEST(CrossvalPackets, Intersect4_8_16WithPartialValidMasks) {
   Fixture f;
-  runIntersectPackets<4, RTCRayHit4>(f, f.libs.embree->rtcIntersect4, f.libs.obvh->rtcIntersect4, "rtcIntersect4");
-  runIntersectPackets<8, RTCRayHit8>(f, f.libs.embree->rtcIntersect8, f.libs.obvh->rtcIntersect8, "rtcIntersect8");
-  runIntersectPackets<16, RTCRayHit16>(f, f.libs.embree->rtcIntersect16, f.libs.obvh->rtcIntersect16, "rtcIntersect16");
+  runIntersectPacketWidths(f, "");
 }
 
 TEST(CrossvalPackets, Occluded4_8_16WithPartialValidMasks) {
   Fixture f;
-  runOccludedPackets<4, RTCRay4>(f, f.libs.embree->rtcOccluded4, f.libs.obvh->rtcOccluded4, "rtcOccluded4");
-  runOccludedPackets<8, RTCRay8>(f, f.libs.embree->rtcOccluded8, f.libs.obvh->rtcOccluded8, "rtcOccluded8");
-  runOccludedPackets<16, RTCRay16>(f, f.libs.embree->rtcOccluded16, f.libs.obvh->rtcOccluded16, "rtcOccluded16");
+  runOccludedPacketWidths(f, "");
 }
 
 // Valid lanes whose segment is empty (tnear > tfar, as shadow rays behind pixels without a hit are
@@ -149,14 +163,8 @@ TEST(CrossvalPackets, EmptySegmentsAreAnsweredLikeEmbree) {
       r.tnear = r.tfar = 0.5f;
     }
   }
-  runIntersectPackets<4, RTCRayHit4>(f, f.libs.embree->rtcIntersect4, f.libs.obvh->rtcIntersect4, "rtcIntersect4, empty segments");
-  runIntersectPackets<8, RTCRayHit8>(f, f.libs.embree->rtcIntersect8, f.libs.obvh->rtcIntersect8, "rtcIntersect8, empty segments");
-  runIntersectPackets<16, RTCRayHit16>(f, f.libs.embree->rtcIntersect16, f.libs.obvh->rtcIntersect16,
-                                       "rtcIntersect16, empty segments");
-  runOccludedPackets<4, RTCRay4>(f, f.libs.embree->rtcOccluded4, f.libs.obvh->rtcOccluded4, "rtcOccluded4, empty segments");
-  runOccludedPackets<8, RTCRay8>(f, f.libs.embree->rtcOccluded8, f.libs.obvh->rtcOccluded8, "rtcOccluded8, empty segments");
-  runOccludedPackets<16, RTCRay16>(f, f.libs.embree->rtcOccluded16, f.libs.obvh->rtcOccluded16,
-                                   "rtcOccluded16, empty segments");
+  runIntersectPacketWidths(f, ", empty segments");
+  runOccludedPacketWidths(f, ", empty segments");
 }
 
 std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
