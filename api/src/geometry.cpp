@@ -114,10 +114,14 @@ const BufferView& Geometry::attributeBuffer(unsigned slot) const {
 }
 
 BufferView& Geometry::view(int type, unsigned slot) {
+  // A grid mesh has a grid buffer where the other meshes have an index buffer.
+  const int primitiveBufferType = isGridMesh() ? RTC_BUFFER_TYPE_GRID : RTC_BUFFER_TYPE_INDEX;
+  if (type == RTC_BUFFER_TYPE_INDEX || type == RTC_BUFFER_TYPE_GRID) {
+    if (type != primitiveBufferType) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+    if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+    return index_;
+  }
   switch (type) {
-    case RTC_BUFFER_TYPE_INDEX:
-      if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
-      return index_;
     case RTC_BUFFER_TYPE_VERTEX:
       if (slot >= vertices_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       return vertices_[slot];
@@ -133,9 +137,14 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
                          size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
   if (!isMesh() && !isShape()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   switch (type) {
+    case RTC_BUFFER_TYPE_GRID:
+      if (!isGridMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+      if (format != RTC_FORMAT_GRID) fail(RTC_ERROR_INVALID_OPERATION, "invalid grid buffer format");
+      break;
     case RTC_BUFFER_TYPE_INDEX: {
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
-      if (type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || isGridMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
       const int indexFormat = isQuadMesh() ? RTC_FORMAT_UINT4 : isShape() ? RTC_FORMAT_UINT : RTC_FORMAT_UINT3;
       if (format != indexFormat) fail(RTC_ERROR_INVALID_OPERATION, "invalid index buffer format");
       break;

@@ -85,7 +85,12 @@ class Geometry : public RefCounted {
   const BufferView& indexBuffer() const { return index_; }
   const BufferView& vertexBuffer() const { return vertices_[0]; }
   bool isQuadMesh() const { return type_ == RTC_GEOMETRY_TYPE_QUAD; }
-  bool isMesh() const { return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD; }
+  bool isGridMesh() const { return type_ == RTC_GEOMETRY_TYPE_GRID; }
+  // Float3 vertices and a primitive buffer: indices (triangles, quads) or RTCGrid records (grids,
+  // whose buffer indexBuffer() returns too).
+  bool isMesh() const {
+    return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD || type_ == RTC_GEOMETRY_TYPE_GRID;
+  }
   // Sphere points and flat linear curves: float4 vertices (position and radius).
   bool isShape() const { return type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || type_ == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE; }
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
@@ -100,7 +105,7 @@ class Geometry : public RefCounted {
 
   Ref<Device> device_;
   RTCGeometryType type_;
-  BufferView index_;
+  BufferView index_;  // the index buffer, or a grid mesh's grid buffer
   std::vector<BufferView> vertices_;
   std::vector<BufferView> attributes_;
   unsigned mask_ = 0xFFFFFFFFu;

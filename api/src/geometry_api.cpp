@@ -54,11 +54,11 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgumen
     requireHandle(d);
     const int type = enumBits(typeArgument);
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
-    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_USER &&
-        type != RTC_GEOMETRY_TYPE_INSTANCE && type != RTC_GEOMETRY_TYPE_SPHERE_POINT &&
-        type != RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE)
+    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_GRID &&
+        type != RTC_GEOMETRY_TYPE_USER && type != RTC_GEOMETRY_TYPE_INSTANCE &&
+        type != RTC_GEOMETRY_TYPE_SPHERE_POINT && type != RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
-                                            " is not supported by obvh yet (triangles, quads, user geometry, "
+                                            " is not supported by obvh yet (triangles, quads, grids, user geometry, "
                                             "instances, sphere points and flat linear curves are)");
     return (new Geometry(d, static_cast<RTCGeometryType>(type)))->handle();  // validated above
   });

@@ -1,8 +1,12 @@
-// rtcInterpolate / rtcInterpolateN for triangle and quad meshes, with Embree's conventions:
+// rtcInterpolate / rtcInterpolateN for triangle, quad and grid meshes, with Embree's conventions:
 // triangles interpolate linearly in (u, v); quads use the same two-triangle split as intersection,
-// (v0, v1, v3) for u + v <= 1 and (v2, v3, v1) with (1-u, 1-v) otherwise. Second derivatives are 0.
+// (v0, v1, v3) for u + v <= 1 and (v2, v3, v1) with (1-u, 1-v) otherwise. A grid's (u, v), clamped
+// to [0, 1], picks a cell, interpolated as a quad with derivatives per unit of the grid's (u, v).
+// Second derivatives are 0.
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -29,9 +33,42 @@ const float* itemAt(const BufferView& view, uint32_t index, unsigned valueCount)
   return reinterpret_cast<const float*>(view.buffer->data() + offset);
 }
 
+// A quad's corners (v0, v1, v2, v3) at (u, v), split as Embree splits quads.
+Corners quadCorners(const BufferView& values, const uint32_t idx[4], float u, float v, unsigned valueCount) {
+  if (u + v <= 1.f)
+    return {{itemAt(values, idx[0], valueCount), itemAt(values, idx[1], valueCount), itemAt(values, idx[3], valueCount)},
+            {1.f, 0.f}, {0.f, 1.f}, u, v};
+  // Second half: value = a2 + (1-u)(a3-a2) + (1-v)(a1-a2).
+  return {{itemAt(values, idx[2], valueCount), itemAt(values, idx[3], valueCount), itemAt(values, idx[1], valueCount)},
+          {-1.f, 0.f}, {0.f, -1.f}, 1.f - u, 1.f - v};
+}
+
+// The cell of a grid that (u, v) falls in, as a quad, with derivatives scaled to the grid's (u, v).
+Corners gridCorners(const BufferView& values, const unsigned char* record, float u, float v, unsigned valueCount) {
+  RTCGrid grid;
+  std::memcpy(&grid, record, sizeof grid);  // the buffer need only be 4-byte aligned
+  if (grid.width < 2 || grid.height < 2) fail(RTC_ERROR_INVALID_ARGUMENT, "grid has no cells (width or height below 2)");
+  const int columns = grid.width - 1, rows = grid.height - 1;
+  u = std::clamp(u, 0.f, 1.f);
+  v = std::clamp(v, 0.f, 1.f);
+  // u = 1 lies on the last cell's far edge (Embree reads a column past the grid there).
+  const int x = std::min(int(std::floor(u * float(columns))), columns - 1);
+  const int y = std::min(int(std::floor(v * float(rows))), rows - 1);
+  const auto index = [&](int dx, int dy) {
+    const uint64_t i = uint64_t(grid.startVertexID) + uint64_t(y + dy) * grid.stride + uint64_t(x + dx);
+    if (i > 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
+    return uint32_t(i);
+  };
+  const uint32_t idx[4] = {index(0, 0), index(1, 0), index(1, 1), index(0, 1)};
+  Corners c = quadCorners(values, idx, u * float(columns) - float(x), v * float(rows) - float(y), valueCount);
+  for (float& d : c.du) d /= float(columns);
+  for (float& d : c.dv) d /= float(rows);
+  return c;
+}
+
 void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int type, unsigned slot, float* P,
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
-  if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle and quad meshes");
+  if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes");
   const BufferView* values = nullptr;
   if (type == RTC_BUFFER_TYPE_VERTEX) {
     if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
@@ -44,19 +81,18 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
   const BufferView& index = g.indexBuffer();
   if (!values->bound() || !index.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
   if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
-  const int corners = g.isQuadMesh() ? 4 : 3;
-  uint32_t idx[4];
-  std::memcpy(idx, index.data() + size_t(primID) * index.byteStride, sizeof(uint32_t) * corners);
-
+  const unsigned char* record = index.data() + size_t(primID) * index.byteStride;
   Corners c;
-  if (!g.isQuadMesh() || u + v <= 1.f) {
-    const uint32_t third = g.isQuadMesh() ? idx[3] : idx[2];
-    c = {{itemAt(*values, idx[0], valueCount), itemAt(*values, idx[1], valueCount), itemAt(*values, third, valueCount)},
-         {1.f, 0.f}, {0.f, 1.f}, u, v};
+  if (g.isGridMesh()) {
+    c = gridCorners(*values, record, u, v, valueCount);
   } else {
-    // Second half: value = a2 + (1-u)(a3-a2) + (1-v)(a1-a2).
-    c = {{itemAt(*values, idx[2], valueCount), itemAt(*values, idx[3], valueCount), itemAt(*values, idx[1], valueCount)},
-         {-1.f, 0.f}, {0.f, -1.f}, 1.f - u, 1.f - v};
+    uint32_t idx[4];
+    std::memcpy(idx, record, sizeof(uint32_t) * (g.isQuadMesh() ? 4 : 3));
+    if (g.isQuadMesh())
+      c = quadCorners(*values, idx, u, v, valueCount);
+    else
+      c = {{itemAt(*values, idx[0], valueCount), itemAt(*values, idx[1], valueCount), itemAt(*values, idx[2], valueCount)},
+           {1.f, 0.f}, {0.f, 1.f}, u, v};
   }
   for (unsigned k = 0; k < valueCount; ++k) {
     const float a = c.value[0][k], e1 = c.value[1][k] - a, e2 = c.value[2][k] - a;

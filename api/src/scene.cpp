@@ -84,7 +84,7 @@ MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
   mesh.indices = index.data();
   mesh.indexStride = index.byteStride;
   mesh.primCount = index.itemCount;
-  mesh.quads = g.isQuadMesh();
+  mesh.topology = g.isGridMesh() ? MeshTopology::Grids : g.isQuadMesh() ? MeshTopology::Quads : MeshTopology::Triangles;
   mesh.geomID = geomID;
   mesh.mask = g.mask();
   return mesh;
@@ -174,6 +174,7 @@ void Scene::rebuild() {
     switch (g->type()) {
       case RTC_GEOMETRY_TYPE_TRIANGLE:
       case RTC_GEOMETRY_TYPE_QUAD:
+      case RTC_GEOMETRY_TYPE_GRID:
         if (g->indexBuffer().bound() && g->vertexBuffer().bound() && g->indexBuffer().data() && g->vertexBuffer().data())
           desc.meshes.push_back(meshOf(*g, uint32_t(id)));
         break;

@@ -8,8 +8,31 @@
 namespace obvh {
 
 // Quads are stored as two triangles: (v0,v1,v3) and (v2,v3,v1). The second one reports
-// u' = 1-u, v' = 1-v so that both halves share the quad's (u,v) parameterisation.
-enum class TriangleKind : uint32_t { Triangle = 0, QuadFirstHalf = 1, QuadSecondHalf = 2 };
+// u' = 1-u, v' = 1-v so that both halves share the quad's (u,v) parameterisation. The cells of a
+// grid (Embree's RTC_GEOMETRY_TYPE_GRID) are quads too, whose (u,v) then spans the whole grid.
+enum class TriangleKind : uint32_t {
+  Triangle = 0,
+  QuadFirstHalf = 1,
+  QuadSecondHalf = 2,
+  GridFirstHalf = 3,
+  GridSecondHalf = 4
+};
+
+inline bool isSecondHalf(TriangleKind kind) {
+  return kind == TriangleKind::QuadSecondHalf || kind == TriangleKind::GridSecondHalf;
+}
+inline bool isGridCell(TriangleKind kind) {
+  return kind == TriangleKind::GridFirstHalf || kind == TriangleKind::GridSecondHalf;
+}
+
+// Where a grid cell lies in its grid. The triangles of a grid cell carry the index of their cell in
+// the scene's table of cells as primID (a block lane has no room for more), so that a hit can
+// report the grid's primID and (u,v) across the grid.
+struct GridCell {
+  uint32_t gridPrimID = 0;
+  uint16_t x = 0, y = 0;              // the cell's first vertex column and row
+  uint16_t columns = 1, rows = 1;     // cells along u and v (the grid's width - 1, height - 1)
+};
 
 struct StoredTriangle {
   Vec3f v0, v1, v2;

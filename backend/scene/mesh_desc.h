@@ -1,4 +1,4 @@
-// Plain description of one triangle or quad mesh, as the API layer hands it to the backend.
+// Plain description of one triangle, quad or grid mesh, as the API layer hands it to the backend.
 #pragma once
 
 #include <cstddef>
@@ -6,14 +6,20 @@
 
 namespace obvh {
 
+enum class MeshTopology : uint8_t {
+  Triangles,  // uint32 x 3 per primitive
+  Quads,      // uint32 x 4 per primitive
+  Grids       // Embree's RTCGrid per primitive: uint32 startVertexID, uint32 stride, uint16 width, height
+};
+
 struct MeshDesc {
   const unsigned char* vertices = nullptr;  // float x, y, z at each stride
   size_t vertexStride = 0;
   size_t vertexCount = 0;
-  const unsigned char* indices = nullptr;   // uint32 x 3 (triangles) or x 4 (quads) at each stride
+  const unsigned char* indices = nullptr;   // one primitive (as topology says) at each stride
   size_t indexStride = 0;
   size_t primCount = 0;
-  bool quads = false;
+  MeshTopology topology = MeshTopology::Triangles;
   uint32_t geomID = 0;
   uint32_t mask = 0xFFFFFFFFu;
 };

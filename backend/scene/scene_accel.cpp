@@ -155,6 +155,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
 
   requested_ = options;
   CollectedPrimitives collected = collectPrimitives(desc.meshes);
+  gridCells_ = std::move(collected.gridCells);
   buildTriangleTree(collected, options);
 
   std::vector<ObjectRef> objects;
@@ -213,8 +214,10 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
 // The traced forms of the binary tree: its wide collapse when that layout is selected, and the
 // views the queries use.
 void SceneAccel::makeTriangleViews() {
-  const TriangleSet set{triangles_.data(), geometryMasks_.data(), intersectFiltered_.data(), occlusionFiltered_.data(),
-                        owner_, options_.intersector == IntersectorMode::Fast};
+  const TriangleSet set{triangles_.data(),      geometryMasks_.data(),
+                        intersectFiltered_.data(), occlusionFiltered_.data(),
+                        owner_,                 options_.intersector == IntersectorMode::Fast,
+                        gridCells_.data()};
   triangleView_ = TriangleBvhView{};
   triangleView4_ = {};
   triangleBvh4_ = {};
@@ -327,6 +330,7 @@ bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
       return false;
   }
   owner_ = desc.owner;
+  gridCells_ = collected.gridCells;
   tbb::parallel_for(size_t(0), triangles_.size(), [&](size_t i) { triangles_[i] = collected.triangles[order[i]]; });
   refitNode(triangleBvh_, 0, triangles_);
   bounds_ = triangleBvh_.nodes[0].bounds;
@@ -518,7 +522,7 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
                             float radiusScale) const {
   bool changed = false;
   auto radius = [&] { return callbacks.radius() * radiusScale; };
-  // Quads are stored as two triangles; the callback must see each quad once.
+  // Quads are stored as two triangles and grids as many; the callback must see each quad or grid once.
   std::vector<uint64_t> visitedQuads;
   traverseSphere(triangleBvh_, p, radius, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i) {
@@ -529,12 +533,13 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
       b.extend(tri.v2);
       const float r = radius();
       if (!(distanceSquaredToBox(p, b) <= r * r)) continue;
+      const uint32_t primID = isGridCell(tri.kind) ? gridCells_[tri.primID].gridPrimID : tri.primID;
       if (tri.kind != TriangleKind::Triangle) {
-        const uint64_t key = (uint64_t(tri.geomID) << 32) | tri.primID;
+        const uint64_t key = (uint64_t(tri.geomID) << 32) | primID;
         if (std::find(visitedQuads.begin(), visitedQuads.end(), key) != visitedQuads.end()) continue;
         visitedQuads.push_back(key);
       }
-      changed |= callbacks.visit(owner_, tri.geomID, tri.primID, instance);
+      changed |= callbacks.visit(owner_, tri.geomID, primID, instance);
     }
   });
   traverseSphere(objectBvh_, p, radius, [&](const Bvh2Node& leaf) {

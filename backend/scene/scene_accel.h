@@ -144,6 +144,7 @@ class SceneAccel {
   std::vector<Instance> instances_;
   std::vector<ShapePrimitive> shapes_;
 
+  std::vector<GridCell> gridCells_;  // grid cells, indexed by the primID of their triangles
   std::vector<uint32_t> geometryMasks_;
   std::vector<uint8_t> intersectFiltered_, occlusionFiltered_;
   const void* owner_ = nullptr;

@@ -203,8 +203,9 @@ template <typename D4>
 
 // A hit on lane `lane` of a block, read from the block's lanes: copying the lane out as a
 // StoredTriangle first kept it alive across the double-precision test, in spilled registers.
-inline Hit makeBlockHit(const TriangleBlock4& block, int lane, const TriangleHit& th, uint32_t instID) {
-  return makeTriangleHit(block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), block.geomID[lane],
+inline Hit makeBlockHit(const TriangleSet& set, const TriangleBlock4& block, int lane, const TriangleHit& th,
+                        uint32_t instID) {
+  return makeTriangleHit(set, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), block.geomID[lane],
                          block.primID[lane], TriangleKind(block.kind[lane]), th, instID);
 }
 
@@ -256,10 +257,10 @@ template <typename F4, typename D4>
     // Inlined (GCC kept this lambda out of line: a call with vzeroupper for every accepted hit).
     visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) __attribute__((always_inline)) {
       if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
-          !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, false))
+          !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, false))
         return false;
       ray.tfar = th.t;
-      hit = makeBlockHit(block, lane, th, state.instID);
+      hit = makeBlockHit(set, block, lane, th, state.instID);
       found = true;
       return false;
     });
@@ -275,7 +276,7 @@ template <typename F4, typename D4>
     const TriangleBlock4& block = blocks[b];
     if (visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
           return !needsFilter(set.occlusionFiltered, block.geomID[lane], state) ||
-                 state.callbacks->acceptHit(set.owner, ray, makeBlockHit(block, lane, th, state.instID), th.t, true);
+                 state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, true);
         }))
       return true;
   }

@@ -19,6 +19,7 @@ struct TriangleSet {
   const uint8_t* occlusionFiltered = nullptr; // geomID has an occlusion filter
   const void* owner = nullptr;                // passed back to QueryCallbacks
   bool fast = false;                          // Moeller-Trumbore instead of the watertight test
+  const GridCell* gridCells = nullptr;        // indexed by the primID of grid-cell triangles
 };
 
 // The watertight test's per-ray constants (three divisions), computed when the ray first reaches a
@@ -42,21 +43,32 @@ inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, c
                   : intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th);
 }
 
-inline Hit makeTriangleHit(const Vec3f& v0, const Vec3f& v1, const Vec3f& v2, uint32_t geomID, uint32_t primID,
-                           TriangleKind kind, const TriangleHit& th, uint32_t instID) {
+inline Hit makeTriangleHit(const TriangleSet& set, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2, uint32_t geomID,
+                           uint32_t primID, TriangleKind kind, const TriangleHit& th, uint32_t instID) {
   Hit hit;
   hit.geomID = geomID;
   hit.primID = primID;
   hit.instID = instID;
   hit.Ng = embreeGeometryNormal(v0, v1, v2);
-  const bool secondHalf = kind == TriangleKind::QuadSecondHalf;
+  const bool secondHalf = isSecondHalf(kind);
   hit.u = secondHalf ? 1.f - th.u : th.u;
   hit.v = secondHalf ? 1.f - th.v : th.v;
+  if (isGridCell(kind)) {
+    const GridCell& cell = set.gridCells[primID];
+    hit.primID = cell.gridPrimID;
+    hit.u = (float(cell.x) + hit.u) / float(cell.columns);
+    hit.v = (float(cell.y) + hit.v) / float(cell.rows);
+  }
   return hit;
 }
 
-inline Hit makeTriangleHit(const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
-  return makeTriangleHit(tri.v0, tri.v1, tri.v2, tri.geomID, tri.primID, tri.kind, th, instID);
+inline Hit makeTriangleHit(const TriangleSet& set, const StoredTriangle& tri, const TriangleHit& th, uint32_t instID) {
+  return makeTriangleHit(set, tri.v0, tri.v1, tri.v2, tri.geomID, tri.primID, tri.kind, th, instID);
+}
+
+// The Embree primitive ID a stored triangle belongs to (a grid's, for the triangles of its cells).
+inline uint32_t embreePrimID(const TriangleSet& set, const StoredTriangle& tri) {
+  return isGridCell(tri.kind) ? set.gridCells[tri.primID].gridPrimID : tri.primID;
 }
 
 inline bool needsFilter(const uint8_t* filtered, uint32_t geomID, const QueryState& state) {
@@ -72,7 +84,7 @@ inline bool intersectLeafClosest(const TriangleSet& set, uint32_t first, uint32_
     if ((set.geometryMasks[tri.geomID] & ray.mask) == 0) continue;
     TriangleHit th;
     if (!intersectTriangle(set, wr, ray, tri, th)) continue;
-    const Hit candidate = makeTriangleHit(tri, th, state.instID);
+    const Hit candidate = makeTriangleHit(set, tri, th, state.instID);
     if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
         !state.callbacks->acceptHit(set.owner, ray, candidate, th.t, false))
       continue;
@@ -92,7 +104,7 @@ inline bool intersectLeafAny(const TriangleSet& set, uint32_t first, uint32_t co
     TriangleHit th;
     if (!intersectTriangle(set, wr, ray, tri, th)) continue;
     if (needsFilter(set.occlusionFiltered, tri.geomID, state) &&
-        !state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(tri, th, state.instID), th.t, true))
+        !state.callbacks->acceptHit(set.owner, ray, makeTriangleHit(set, tri, th, state.instID), th.t, true))
       continue;
     return true;
   }

@@ -105,7 +105,7 @@ inline uint32_t intersectBlocksClosestPacket(const TriangleSet& set, const Trian
   uint32_t found = 0;
   visitPacketHits<FR>(set, blocks, firstBlock, blockCount, shear, frames, rays, active,
                       [&](int r, const StoredTriangle& tri, const TriangleHit& th) {
-                        const Hit candidate = makeTriangleHit(tri, th, state.instID);
+                        const Hit candidate = makeTriangleHit(set, tri, th, state.instID);
                         if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
                             !state.callbacks->acceptHit(set.owner, rays[r], candidate, th.t, false))
                           return false;
@@ -127,7 +127,7 @@ inline uint32_t intersectBlocksAnyPacket(const TriangleSet& set, const TriangleB
                              [&](int r, const StoredTriangle& tri, const TriangleHit& th) {
                                return !needsFilter(set.occlusionFiltered, tri.geomID, state) ||
                                       state.callbacks->acceptHit(set.owner, rays[r],
-                                                                 makeTriangleHit(tri, th, state.instID), th.t, true);
+                                                                 makeTriangleHit(set, tri, th, state.instID), th.t, true);
                              });
 }
 

@@ -176,6 +176,47 @@ TEST(ErrorConformance, GeometryBufferMisuse) {
   });
 }
 
+// Grid meshes: a grid buffer instead of an index buffer, and the grid format for it alone.
+TEST(ErrorConformance, GridBufferMisuse) {
+  expectSameErrors([](Recorder& r) {
+    static float v[16 * 3] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    static RTCGrid grid[2] = {{0, 2, 2, 2}, {0, 2, 2, 2}};
+    static unsigned idx[8] = {0, 1, 2, 3};
+    RTCGeometry g = r.lib.rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_GRID);
+    r.check("new grid geometry");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, idx, 0, 16, 1);
+    r.check("index buffer on a grid mesh");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_UINT4, grid, 0, 12, 1);
+    r.check("grid buffer UINT4");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 1, RTC_FORMAT_GRID, grid, 0, 12, 1);
+    r.check("grid buffer slot 1");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, grid, 2, 12, 1);
+    r.check("grid buffer offset 2");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, v, 0, 16, 4);
+    r.check("grid vertex buffer FLOAT4");
+    const bool missing = r.lib.rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_GRID, 0) == nullptr;
+    r.check(std::string("data of unset grid buffer is null: ") + (missing ? "yes" : "no"));
+    r.lib.rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_INDEX, 0);
+    r.check("data of an index buffer on a grid mesh");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, grid, 0, 12, 2);
+    r.check("valid grid buffer");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, v, 0, 12, 4);
+    r.check("valid grid vertex buffer");
+    r.lib.rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0);
+    r.check("update grid buffer");
+    r.lib.rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 1);
+    r.check("update grid buffer slot 1");
+    r.lib.rtcCommitGeometry(g);
+    r.check("commit grid geometry");
+    RTCGeometry t = r.lib.rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    r.lib.rtcSetSharedGeometryBuffer(t, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, grid, 0, 12, 1);
+    r.check("grid buffer on a triangle mesh");
+    r.lib.rtcReleaseGeometry(t);
+    r.lib.rtcReleaseGeometry(g);
+    r.check("release");
+  });
+}
+
 TEST(ErrorConformance, SceneMisuse) {
   expectSameErrors([](Recorder& r) {
     static float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};

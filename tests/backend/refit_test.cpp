@@ -16,16 +16,17 @@ namespace {
 struct Animated {
   test::MeshData soup = test::randomTriangleSoup(20000, 41);
   test::MeshData grid = test::quadGrid(40, 0.3f, 42);
+  test::MeshData cells = test::gridPatches(30, 0.3f, 43);  // a grid mesh
   SceneDesc desc;
 
   Animated() {
-    for (const test::MeshData* mesh : {&soup, &grid})
+    for (const test::MeshData* mesh : {&soup, &grid, &cells})
       desc.meshes.push_back(tools::backendMeshDesc(*mesh, uint32_t(desc.meshes.size())));
-    desc.geometryIdLimit = 2;
+    desc.geometryIdLimit = 3;
   }
   // A non-rigid motion: every vertex moves differently, so boxes change shape and overlap.
   void animate(float time) {
-    for (test::MeshData* mesh : {&soup, &grid})
+    for (test::MeshData* mesh : {&soup, &grid, &cells})
       for (size_t i = 0; i + 2 < mesh->vertices.size(); i += 3) {
         float* v = &mesh->vertices[i];
         v[2] += 0.2f * std::sin(6.f * v[0] + time) * std::cos(5.f * v[1]);

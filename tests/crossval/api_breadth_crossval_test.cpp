@@ -16,14 +16,21 @@ namespace {
 constexpr size_t kRays = 100000;
 
 RTCGeometry addMesh(const RtcLibrary& lib, RTCDevice device, RTCScene scene, const MeshData& mesh) {
-  RTCGeometry g = lib.rtcNewGeometry(device, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry g = lib.rtcNewGeometry(
+      device, mesh.grid ? RTC_GEOMETRY_TYPE_GRID : mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(
       lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.vertexCount()));
-  auto* i = static_cast<uint32_t*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
-                                                               mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
-                                                               mesh.quads ? 16 : 12, mesh.primitiveCount()));
   std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
-  std::memcpy(i, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+  if (mesh.grid) {
+    void* grids = lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid),
+                                              mesh.primitiveCount());
+    std::memcpy(grids, mesh.grids.data(), mesh.grids.size() * sizeof(RTCGrid));
+  } else {
+    auto* i = static_cast<uint32_t*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                 mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+                                                                 mesh.quads ? 16 : 12, mesh.primitiveCount()));
+    std::memcpy(i, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+  }
   lib.rtcCommitGeometry(g);
   lib.rtcAttachGeometry(scene, g);
   return g;
@@ -392,9 +399,9 @@ TEST(CrossvalFilters, GeometryAndContextFiltersMatchEmbree) {
 
 // --- Interpolation ---------------------------------------------------------------------------------
 
-TEST(CrossvalInterpolate, TrianglesAndQuadsMatchEmbree) {
+TEST(CrossvalInterpolate, TrianglesQuadsAndGridsMatchEmbree) {
   const LoadedLibraries& libs = libraries();
-  const MeshData meshes[2] = {randomTriangleSoup(200, 51), quadGrid(10, 0.5f, 52)};
+  const MeshData meshes[3] = {randomTriangleSoup(200, 51), quadGrid(10, 0.5f, 52), gridPatches(12, 0.5f, 54)};
   std::mt19937 rng(53);
   std::uniform_real_distribution<float> unit(0.f, 1.f);
   for (const MeshData& mesh : meshes) {
@@ -416,6 +423,9 @@ TEST(CrossvalInterpolate, TrianglesAndQuadsMatchEmbree) {
     for (int n = 0; n < 2000; ++n) {
       const unsigned prim = unsigned(rng() % mesh.primitiveCount());
       float u = unit(rng), v = unit(rng);
+      // Also the borders of a grid and of its cells (u = 1 is left out: Embree reads past the grid).
+      if (mesh.grid && n % 4 == 0) u = float(rng() % (mesh.grids[prim].width - 1u)) / float(mesh.grids[prim].width - 1u);
+      if (mesh.grid && n % 4 == 1) v = float(rng() % (mesh.grids[prim].height - 1u)) / float(mesh.grids[prim].height - 1u);
       if (!mesh.quads && u + v > 1.f) u = 1.f - u, v = 1.f - v;
       for (RTCBufferType type : {RTC_BUFFER_TYPE_VERTEX, RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE}) {
         const unsigned count = type == RTC_BUFFER_TYPE_VERTEX ? 3 : 4;
@@ -428,7 +438,7 @@ TEST(CrossvalInterpolate, TrianglesAndQuadsMatchEmbree) {
         for (int s = 0; s < 6; ++s)
           for (unsigned c = 0; c < count; ++c)
             EXPECT_NEAR(out[0][s][c], out[1][s][c], 1e-4f * (1.f + std::fabs(out[0][s][c])))
-                << (mesh.quads ? "quad" : "triangle") << " prim " << prim << " u " << u << " v " << v << " part " << s;
+                << (mesh.grid ? "grid" : mesh.quads ? "quad" : "triangle") << " prim " << prim << " u " << u << " v " << v << " part " << s;
         ++compared;
       }
     }

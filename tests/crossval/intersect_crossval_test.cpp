@@ -46,6 +46,22 @@ TEST(CrossvalIntersect, BoxesOfTrianglesAndQuads) {
   expectNoMismatch("boxes quad edges", crossvalIntersect1(scene, raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 8)));
 }
 
+// Grid meshes (RTC_GEOMETRY_TYPE_GRID): hits report the grid's primID and (u, v) across the grid;
+// the rays through cell edges and vertices test the cells' shared edges, as for quad meshes.
+TEST(CrossvalIntersect, GridMeshes) {
+  SceneData scene = single("grids", gridPatches(40, 0.4f, 61));
+  MeshData tilted = gridPatches(23, 0.f, 62);
+  const float offset[3] = {0.2f, -0.3f, 0.25f};
+  transformMesh(tilted, 0.7f, offset);
+  for (size_t i = 0; i < tilted.vertices.size(); i += 3) std::swap(tilted.vertices[i + 1], tilted.vertices[i + 2]);
+  scene.meshes.push_back(tilted);
+  const std::vector<RTCRay> edges = raysThroughEdgesAndVertices(gridCellsAsQuads(scene.meshes[0]), kRandomRays / 2, 63);
+  expectNoMismatch("grids mixed", crossvalIntersect1(scene, mixedRays(scene, kRandomRays, kGridSide, 64)));
+  expectNoMismatch("grids edges", crossvalIntersect1(scene, edges));
+  expectNoMismatch("grids edges robust", crossvalIntersect1(scene, edges, RTC_SCENE_FLAG_ROBUST));
+  expectNoMismatch("grids occluded", crossvalOccluded1(scene, mixedRays(scene, kRandomRays / 4, kGridSide / 2, 65)));
+}
+
 // Every axis-aligned layout against Embree (the other tests use the default, bvh8 on AVX2 CPUs):
 // the binary reference, four-wide, and leaves of several blocks with padded lanes.
 class CrossvalAabbLayouts : public ::testing::TestWithParam<const char*> {};
@@ -58,6 +74,7 @@ TEST_P(CrossvalAabbLayouts, MatchEmbree) {
   SceneData scene = single("icosphere+soup+quads", icosphere(4, 1.f, center));
   scene.meshes.push_back(randomTriangleSoup(10000, 19));
   scene.meshes.push_back(quadGrid(30, 0.3f, 24));
+  scene.meshes.push_back(gridPatches(20, 0.3f, 25));
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
   tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
   expectNoMismatch(GetParam(), compareCommitted(scene, reference, candidate, mixedRays(scene, kRandomRays, kGridSide, 20)));

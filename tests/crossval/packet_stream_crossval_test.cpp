@@ -20,6 +20,10 @@ SceneData packetScene() {
   scene.name = "packets";
   scene.meshes.push_back(randomTriangleSoup(10000, 21));
   scene.meshes.push_back(quadGrid(30, 0.3f, 22));
+  MeshData grids = gridPatches(30, 0.3f, 25);
+  const float offset[3] = {0.f, 0.f, 0.4f};
+  transformMesh(grids, 1.f, offset);
+  scene.meshes.push_back(grids);
   const float center[3] = {0.5f, 0.5f, 0.5f};
   scene.meshes.push_back(icosphere(3, 0.3f, center));
   return scene;

@@ -70,11 +70,22 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
     return P{m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13],
              m[2] * x + m[6] * y + m[10] * z + m[14]};
   };
-  const int corners = mesh.quads ? 4 : 3;
-  const uint32_t* idx = &mesh.indices[size_t(args->primID) * corners];
   const P p{args->query->x, args->query->y, args->query->z};
-  double d = distanceToTriangle(p, world(idx[0]), world(idx[1]), world(idx[2]));
-  if (mesh.quads) d = std::min(d, distanceToTriangle(p, world(idx[0]), world(idx[2]), world(idx[3])));
+  double d = std::numeric_limits<double>::infinity();
+  if (mesh.grid) {  // the nearest of the grid's cells
+    const RTCGrid& g = mesh.grids.at(args->primID);
+    for (uint32_t y = 0; y + 1 < g.height; ++y)
+      for (uint32_t x = 0; x + 1 < g.width; ++x) {
+        const uint32_t i = g.startVertexID + y * g.stride + x;
+        d = std::min({d, distanceToTriangle(p, world(i), world(i + 1), world(i + g.stride)),
+                      distanceToTriangle(p, world(i + 1 + g.stride), world(i + g.stride), world(i + 1))});
+      }
+  } else {
+    const int corners = mesh.quads ? 4 : 3;
+    const uint32_t* idx = &mesh.indices[size_t(args->primID) * corners];
+    d = distanceToTriangle(p, world(idx[0]), world(idx[1]), world(idx[2]));
+    if (mesh.quads) d = std::min(d, distanceToTriangle(p, world(idx[0]), world(idx[2]), world(idx[3])));
+  }
   const double worldDistance = localSpace ? d * args->similarityScale : d;
   if (worldDistance >= data.closest.distance || d > args->query->radius) return false;
   data.closest = {worldDistance, args->geomID, args->primID,
@@ -85,7 +96,7 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
 
 TEST(CrossvalPointQuery, ClosestPointMatchesEmbree) {
   const LoadedLibraries& libs = libraries();
-  const std::vector<MeshData> child = {randomTriangleSoup(2000, 61), quadGrid(12, 0.3f, 62)};
+  const std::vector<MeshData> child = {randomTriangleSoup(2000, 61), quadGrid(12, 0.3f, 62), gridPatches(14, 0.4f, 65)};
   const std::vector<MeshData> top = {randomTriangleSoup(3000, 63)};
   const float xfm[2][12] = {{0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 2.f, 0.f, 0.f},   // similarity
                             {0.f, 1.f, 0, -0.7f, 0.f, 0, 0, 0, 0.4f, -1.5f, 0.5f, 0.f}};  // rotation + anisotropic scale
@@ -97,11 +108,16 @@ TEST(CrossvalPointQuery, ClosestPointMatchesEmbree) {
     for (const MeshData& mesh : child) {
       tools::SceneData one;
       one.meshes = {mesh};
-      RTCGeometry g = lib[k]->rtcNewGeometry(devices[k], mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+      RTCGeometry g = lib[k]->rtcNewGeometry(
+          devices[k], mesh.grid ? RTC_GEOMETRY_TYPE_GRID : mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
       lib[k]->rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.vertices.data(), 0, 12,
                                          mesh.vertexCount());
-      lib[k]->rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
-                                         mesh.indices.data(), 0, mesh.quads ? 16 : 12, mesh.primitiveCount());
+      if (mesh.grid)
+        lib[k]->rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, mesh.grids.data(), 0,
+                                           sizeof(RTCGrid), mesh.primitiveCount());
+      else
+        lib[k]->rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+                                           mesh.indices.data(), 0, mesh.quads ? 16 : 12, mesh.primitiveCount());
       lib[k]->rtcCommitGeometry(g);
       lib[k]->rtcAttachGeometry(childScene, g);
       lib[k]->rtcReleaseGeometry(g);
@@ -131,7 +147,7 @@ TEST(CrossvalPointQuery, ClosestPointMatchesEmbree) {
 
   std::mt19937 rng(64);
   std::uniform_real_distribution<float> unit(-2.5f, 3.5f);
-  size_t queries = 0, found = 0, differ = 0, ties = 0;
+  size_t queries = 0, found = 0, differ = 0, ties = 0, onGrid = 0;
   for (int q = 0; q < 3000; ++q) {
     Closest result[2];
     const float radii[3] = {std::numeric_limits<float>::infinity(), 0.3f, 20.f};
@@ -148,6 +164,7 @@ TEST(CrossvalPointQuery, ClosestPointMatchesEmbree) {
     }
     ++queries;
     found += result[0].geomID != RTC_INVALID_GEOMETRY_ID;
+    onGrid += result[0].instID != RTC_INVALID_GEOMETRY_ID && result[0].geomID == 2;  // the child's grid mesh
     const bool same = result[0].geomID == result[1].geomID && result[0].primID == result[1].primID &&
                       result[0].instID == result[1].instID;
     if (same) {
@@ -165,9 +182,10 @@ TEST(CrossvalPointQuery, ClosestPointMatchesEmbree) {
                   << " prim " << result[1].primID << " inst " << result[1].instID << " at " << result[1].distance;
     if (differ > 5) break;
   }
-  std::printf("[crossval] %-34s %zu queries, %zu found something, %zu ties, %zu differ\n", "point query closest",
-              queries, found, ties, differ);
+  std::printf("[crossval] %-34s %zu queries, %zu found something (%zu a grid), %zu ties, %zu differ\n",
+              "point query closest", queries, found, onGrid, ties, differ);
   EXPECT_GT(found, queries / 2);
+  EXPECT_GT(onGrid, 0u);
   EXPECT_EQ(differ, 0u);
   for (int k = 0; k < 2; ++k) lib[k]->rtcReleaseScene(scenes[k]);
 }

@@ -15,10 +15,16 @@ inline MeshDesc backendMeshDesc(const MeshData& mesh, uint32_t geomID = 0) {
   desc.vertices = reinterpret_cast<const unsigned char*>(mesh.vertices.data());
   desc.vertexStride = 3 * sizeof(float);
   desc.vertexCount = mesh.vertexCount();
-  desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
-  desc.indexStride = (mesh.quads ? 4 : 3) * sizeof(uint32_t);
+  if (mesh.grid) {
+    desc.indices = reinterpret_cast<const unsigned char*>(mesh.grids.data());
+    desc.indexStride = sizeof(RTCGrid);
+    desc.topology = MeshTopology::Grids;
+  } else {
+    desc.indices = reinterpret_cast<const unsigned char*>(mesh.indices.data());
+    desc.indexStride = (mesh.quads ? 4 : 3) * sizeof(uint32_t);
+    desc.topology = mesh.quads ? MeshTopology::Quads : MeshTopology::Triangles;
+  }
   desc.primCount = mesh.primitiveCount();
-  desc.quads = mesh.quads;
   desc.geomID = geomID;
   return desc;
 }

@@ -16,8 +16,58 @@ D3 crossD(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.
 double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 double lengthD(D3 a) { return std::sqrt(dotD(a, a)); }
 
-D3 vertex(const MeshData& mesh, uint32_t index) {
+D3 vertex(const MeshData& mesh, uint64_t index) {
   return {mesh.vertices[3 * index], mesh.vertices[3 * index + 1], mesh.vertices[3 * index + 2]};
+}
+
+// One triangle of a primitive with the map from its barycentric (u, v) to the primitive's
+// parameterisation in Embree's convention: u' = uOffset + uScale * (flipped ? 1 - u : u), same for v.
+struct PrimitiveTriangle {
+  D3 v[3];
+  bool flipped = false;
+  double uOffset = 0.0, vOffset = 0.0, uScale = 1.0, vScale = 1.0;
+};
+
+// Triangles split from a quad (v0, v1, v2, v3) as Embree splits quads and grid cells: (v0, v1, v3)
+// and (v2, v3, v1), the second with flipped (u, v).
+void addQuadTriangles(const D3 q[4], std::vector<PrimitiveTriangle>& out, PrimitiveTriangle cell = {}) {
+  PrimitiveTriangle first = cell, second = cell;
+  first.v[0] = q[0], first.v[1] = q[1], first.v[2] = q[3];
+  second.v[0] = q[2], second.v[1] = q[3], second.v[2] = q[1];
+  second.flipped = true;
+  out.push_back(first);
+  out.push_back(second);
+}
+
+// The triangles a primitive consists of: one (triangle), two (quad) or two per cell (grid, whose
+// (u, v) spans the whole grid).
+std::vector<PrimitiveTriangle> primitiveTriangles(const MeshData& mesh, unsigned primID) {
+  std::vector<PrimitiveTriangle> out;
+  if (mesh.grid) {
+    const RTCGrid& g = mesh.grids.at(primID);
+    if (g.width < 2 || g.height < 2) return out;
+    const auto at = [&](uint32_t x, uint32_t y) { return vertex(mesh, uint64_t(g.startVertexID) + uint64_t(y) * g.stride + x); };
+    for (uint32_t y = 0; y + 1 < g.height; ++y)
+      for (uint32_t x = 0; x + 1 < g.width; ++x) {
+        const D3 q[4] = {at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)};
+        PrimitiveTriangle cell;
+        cell.uScale = 1.0 / (g.width - 1), cell.vScale = 1.0 / (g.height - 1);
+        cell.uOffset = x * cell.uScale, cell.vOffset = y * cell.vScale;
+        addQuadTriangles(q, out, cell);
+      }
+    return out;
+  }
+  const int corners = mesh.quads ? 4 : 3;
+  const uint32_t* idx = &mesh.indices.at(size_t(primID) * corners);
+  if (mesh.quads) {
+    const D3 q[4] = {vertex(mesh, idx[0]), vertex(mesh, idx[1]), vertex(mesh, idx[2]), vertex(mesh, idx[3])};
+    addQuadTriangles(q, out);
+  } else {
+    PrimitiveTriangle t;
+    t.v[0] = vertex(mesh, idx[0]), t.v[1] = vertex(mesh, idx[1]), t.v[2] = vertex(mesh, idx[2]);
+    out.push_back(t);
+  }
+  return out;
 }
 
 struct TriangleHitD {
@@ -72,12 +122,8 @@ double lineSegmentDistance(D3 org, D3 dir, D3 a, D3 b) {
 
 double coordinateMagnitude(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
   double m = std::max({std::fabs(ray.org_x), std::fabs(ray.org_y), std::fabs(ray.org_z)});
-  const MeshData& mesh = scene.meshes.at(geomID);
-  const int corners = mesh.quads ? 4 : 3;
-  for (int c = 0; c < corners; ++c) {
-    const D3 v = vertex(mesh, mesh.indices[size_t(primID) * corners + c]);
-    m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-  }
+  for (const PrimitiveTriangle& tri : primitiveTriangles(scene.meshes.at(geomID), primID))
+    for (const D3& v : tri.v) m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
   return m;
 }
 
@@ -153,23 +199,10 @@ double edgeToleranceFor(const SceneData& scene, const RTCRay& ray, unsigned geom
 }  // namespace
 
 std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
-  const MeshData& mesh = scene.meshes.at(geomID);
   const D3 org{ray.org_x, ray.org_y, ray.org_z}, dir{ray.dir_x, ray.dir_y, ray.dir_z};
-  const int corners = mesh.quads ? 4 : 3;
-  const uint32_t* idx = &mesh.indices[size_t(primID) * corners];
-  D3 tris[2][3];
-  int triCount = 1;
-  if (mesh.quads) {  // Embree's split: (v0, v1, v3) and (v2, v3, v1)
-    const D3 q[4] = {vertex(mesh, idx[0]), vertex(mesh, idx[1]), vertex(mesh, idx[2]), vertex(mesh, idx[3])};
-    tris[0][0] = q[0], tris[0][1] = q[1], tris[0][2] = q[3];
-    tris[1][0] = q[2], tris[1][1] = q[3], tris[1][2] = q[1];
-    triCount = 2;
-  } else {
-    tris[0][0] = vertex(mesh, idx[0]), tris[0][1] = vertex(mesh, idx[1]), tris[0][2] = vertex(mesh, idx[2]);
-  }
   std::vector<ExactPart> parts;
-  for (int k = 0; k < triCount; ++k) {
-    const D3* tri = tris[k];
+  for (const PrimitiveTriangle& piece : primitiveTriangles(scene.meshes.at(geomID), primID)) {
+    const D3* tri = piece.v;
     ExactPart part;
     part.lineToEdges = std::min({lineSegmentDistance(org, dir, tri[0], tri[1]), lineSegmentDistance(org, dir, tri[1], tri[2]),
                                  lineSegmentDistance(org, dir, tri[2], tri[0])});
@@ -183,9 +216,8 @@ std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray,
       part.planeHit = true;
       part.t = h.t;
       part.edgeDistance = edgeDistance(h, tri[0], tri[1], tri[2]);
-      const bool secondQuadHalf = mesh.quads && k == 1;
-      part.u = secondQuadHalf ? 1.0 - h.b[1] : h.b[1];
-      part.v = secondQuadHalf ? 1.0 - h.b[2] : h.b[2];
+      part.u = piece.uOffset + piece.uScale * (piece.flipped ? 1.0 - h.b[1] : h.b[1]);
+      part.v = piece.vOffset + piece.vScale * (piece.flipped ? 1.0 - h.b[2] : h.b[2]);
     }
     parts.push_back(part);
   }
@@ -277,10 +309,16 @@ std::string describeRay(const RTCRay& r) {
 
 std::string describePrimitive(const SceneData& scene, unsigned geomID, unsigned primID) {
   const MeshData& mesh = scene.meshes.at(geomID);
-  const int corners = mesh.quads ? 4 : 3;
   char buf[128];
   std::snprintf(buf, sizeof buf, "geom %u prim %u:", geomID, primID);
   std::string out = buf;
+  if (mesh.grid) {  // a grid's corners (its cells can be many)
+    const RTCGrid& g = mesh.grids.at(primID);
+    std::snprintf(buf, sizeof buf, " grid start %u stride %u, %u x %u vertices", g.startVertexID, g.stride, g.width,
+                  g.height);
+    return out + buf;
+  }
+  const int corners = mesh.quads ? 4 : 3;
   for (int c = 0; c < corners; ++c) {
     const float* v = &mesh.vertices[3 * size_t(mesh.indices[size_t(primID) * corners + c])];
     std::snprintf(buf, sizeof buf, " (%a, %a, %a)", v[0], v[1], v[2]);

@@ -1,5 +1,6 @@
 #include "procedural_meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <map>
@@ -157,6 +158,44 @@ MeshData closedFan(int count, float radius, float height, const float center[3])
 
 void transformMesh(MeshData& mesh, float scale, const float offset[3]) {
   for (size_t i = 0; i < mesh.vertices.size(); ++i) mesh.vertices[i] = mesh.vertices[i] * scale + offset[i % 3];
+}
+
+MeshData gridPatches(int n, float jitter, uint32_t seed) {
+  MeshData mesh = quadGrid(n, jitter, seed);
+  mesh.indices.clear();
+  mesh.quads = false;
+  mesh.grid = true;
+  const uint32_t stride = uint32_t(n) + 1;
+  const auto at = [&](int x, int y) { return uint32_t(y) * stride + uint32_t(x); };
+  // Tiles of varying size covering the field; a tile's last row and column are its neighbours' first.
+  const int widths[] = {2, 3, 5, 4, 9, 17};
+  int y = 0, row = 0;
+  while (y < n) {
+    const int height = std::min(widths[(row + 2) % 6], n - y + 1);
+    int x = 0, column = row;
+    while (x < n) {
+      const int width = std::min(widths[column % 6], n - x + 1);
+      mesh.grids.push_back({at(x, y), stride, uint16_t(width), uint16_t(height)});
+      x += width - 1;
+      ++column;
+    }
+    y += height - 1;
+    ++row;
+  }
+  return mesh;
+}
+
+MeshData gridCellsAsQuads(const MeshData& gridMesh) {
+  MeshData mesh;
+  mesh.vertices = gridMesh.vertices;
+  mesh.quads = true;
+  for (const RTCGrid& g : gridMesh.grids)
+    for (uint32_t y = 0; y + 1 < g.height; ++y)
+      for (uint32_t x = 0; x + 1 < g.width; ++x) {
+        const uint32_t i = g.startVertexID + y * g.stride + x;
+        mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + g.stride + 1, i + g.stride});
+      }
+  return mesh;
 }
 
 }  // namespace obvh::tools

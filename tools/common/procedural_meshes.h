@@ -32,4 +32,12 @@ MeshData closedFan(int count, float radius, float height, const float center[3])
 // Adds an offset to every vertex and scales about the origin.
 void transformMesh(MeshData& mesh, float scale, const float offset[3]);
 
+// A grid mesh (RTC_GEOMETRY_TYPE_GRID) over one jittered height field of (n + 1) x (n + 1) vertices
+// in [0,1]^2: grids of several sizes cut from it at strides wider than themselves, neighbours
+// sharing their border vertices. (No grid of one row or column: Debian's Embree aborts on those.)
+MeshData gridPatches(int n, float jitter, uint32_t seed);
+
+// The cells of a grid mesh as a quad mesh over the same vertices (cell by cell, grid by grid).
+MeshData gridCellsAsQuads(const MeshData& gridMesh);
+
 }  // namespace obvh::tools

@@ -19,17 +19,26 @@ CommittedScene::CommittedScene(const RtcLibrary& lib, RTCDevice device, const Sc
   lib.rtcSetSceneFlags(scene_, flags);
   lib.rtcSetSceneBuildQuality(scene_, quality);
   for (const MeshData& mesh : data.meshes) {
-    RTCGeometry g = lib.rtcNewGeometry(device, mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+    const RTCGeometryType type =
+        mesh.grid ? RTC_GEOMETRY_TYPE_GRID : mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE;
+    RTCGeometry g = lib.rtcNewGeometry(device, type);
     if (!g) throw std::runtime_error(lib.label + ": rtcNewGeometry failed");
     // Library-owned buffers: both libraries get their own copy, so neither sees the other's data.
     auto* v = static_cast<float*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                               3 * sizeof(float), mesh.vertexCount()));
-    auto* i = static_cast<uint32_t*>(lib.rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
-        (mesh.quads ? 4 : 3) * sizeof(uint32_t), mesh.primitiveCount()));
-    if (!v || !i) throw std::runtime_error(lib.label + ": rtcSetNewGeometryBuffer failed");
+    void* primitives =
+        mesh.grid ? lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid),
+                                                mesh.primitiveCount())
+                  : lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                                mesh.quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3,
+                                                (mesh.quads ? 4 : 3) * sizeof(uint32_t), mesh.primitiveCount());
+    if (!v || (!primitives && mesh.primitiveCount() > 0))
+      throw std::runtime_error(lib.label + ": rtcSetNewGeometryBuffer failed");
     std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
-    std::memcpy(i, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    if (mesh.grid)
+      std::memcpy(primitives, mesh.grids.data(), mesh.grids.size() * sizeof(RTCGrid));
+    else
+      std::memcpy(primitives, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
     lib.rtcSetGeometryMask(g, mesh.mask);
     if (!mesh.enabled) lib.rtcDisableGeometry(g);
     lib.rtcCommitGeometry(g);

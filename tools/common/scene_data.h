@@ -15,11 +15,13 @@ struct MeshData {
   std::vector<float> vertices;     // x, y, z per vertex
   std::vector<uint32_t> indices;   // 3 (triangles) or 4 (quads) per primitive
   bool quads = false;
+  bool grid = false;               // a grid mesh: its primitives are grids, indices is unused
+  std::vector<RTCGrid> grids;
   unsigned mask = 0xFFFFFFFFu;
   bool enabled = true;
 
   size_t vertexCount() const { return vertices.size() / 3; }
-  size_t primitiveCount() const { return indices.size() / (quads ? 4 : 3); }
+  size_t primitiveCount() const { return grid ? grids.size() : indices.size() / (quads ? 4 : 3); }
 };
 
 struct SceneData {
