@@ -1,5 +1,6 @@
 #include "geometry.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "api_error.h"
@@ -31,9 +32,29 @@ void Geometry::setInstancedScene(Scene* scene) {
 
 void Geometry::setTransform(unsigned timeStep, const Affine3f& xfm) {
   requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
-  if (timeStep != 0) fail(RTC_ERROR_INVALID_OPERATION, "invalid timestep (obvh has one time step: no motion blur yet)");
-  transform_ = xfm;
+  if (timeStep >= transforms_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid timestep");
+  transforms_[timeStep] = xfm;
+  givenAsDecomposition_[timeStep] = 0;
   markModified();
+}
+
+void Geometry::setTransform(unsigned timeStep, const QuaternionDecomposition& decomposition) {
+  Affine3f m;
+  if (!decomposition.compose(m)) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid quaternion");
+  setTransform(timeStep, m);
+  decompositions_[timeStep] = decomposition;
+  givenAsDecomposition_[timeStep] = 1;
+}
+
+InstanceMotion Geometry::instanceMotion() const {
+  InstanceMotion motion;
+  if (transforms_.size() < 2) return motion;
+  motion.steps = transforms_;
+  // Quaternion interpolation when every step was given as a decomposition.
+  if (std::all_of(givenAsDecomposition_.begin(), givenAsDecomposition_.end(), [](uint8_t q) { return q != 0; }))
+    motion.quaternions = decompositions_;
+  motion.timeStart = timeStart_, motion.timeEnd = timeEnd_;
+  return motion;
 }
 
 void Geometry::setTransform(unsigned timeStep, int format, const void* xfm) {
@@ -56,11 +77,14 @@ void Geometry::setTransform(unsigned timeStep, int format, const void* xfm) {
   setTransform(timeStep, a);
 }
 
-void Geometry::getTransform(int format, void* xfm) const {
+void Geometry::getTransform(float time, int format, void* xfm) const {
   requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
   if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
   float* m = static_cast<float*>(xfm);
-  const Affine3f& a = transform_;
+  Affine3f a = transforms_[0];
+  // A moving instance's transform at that time (clamped to its time range).
+  const InstanceMotion motion = instanceMotion();
+  if (motion.moving()) motion.at(std::clamp(time, timeStart_, timeEnd_), a);
   switch (format) {
     case RTC_FORMAT_FLOAT3X4_ROW_MAJOR: {
       const float r[12] = {a.vx.x, a.vy.x, a.vz.x, a.p.x, a.vx.y, a.vy.y, a.vz.y, a.p.y, a.vx.z, a.vy.z, a.vz.z, a.p.z};
@@ -182,7 +206,24 @@ void Geometry::updateBuffer(int type, unsigned slot) {
 
 void Geometry::setTimeStepCount(unsigned count) {
   if (count > RTC_MAX_TIME_STEP_COUNT) fail(RTC_ERROR_INVALID_ARGUMENT, "number of time steps is out of range");
-  if (count > 1) fail(RTC_ERROR_INVALID_OPERATION, "motion blur (more than one time step) is not supported by obvh yet");
+  if (count == 0) return;  // Embree accepts 0 without an error; obvh keeps the steps it has
+  const bool instance = type_ == RTC_GEOMETRY_TYPE_INSTANCE;
+  if (count > 1 && !isMesh() && !instance)
+    fail(RTC_ERROR_INVALID_OPERATION, "motion blur is supported by obvh for triangle, quad and grid meshes and instances only");
+  timeSteps_ = count;
+  if (instance) {
+    transforms_.resize(count);
+    decompositions_.resize(count);
+    givenAsDecomposition_.resize(count, 0);
+  } else {
+    vertices_.resize(count);
+  }
+  markModified();
+}
+
+void Geometry::setTimeRange(float start, float end) {
+  if (start > end) fail(RTC_ERROR_INVALID_ARGUMENT, "startTime has to be smaller or equal to the endTime");
+  timeStart_ = start, timeEnd_ = end;
   markModified();
 }
 
@@ -211,6 +252,9 @@ void Geometry::setEnabled(bool enabled) {
 }
 
 void Geometry::commit() {
+  for (const BufferView& step : vertices_)
+    if (step.byteStride != vertices_[0].byteStride)
+      fail(RTC_ERROR_INVALID_OPERATION, "stride of vertex buffers have to be identical for each time step");
   committed_ = true;
   ++modCounter_;
 }

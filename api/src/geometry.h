@@ -10,6 +10,7 @@
 #include "buffer.h"
 #include "device.h"
 #include "math/affine.h"
+#include "scene/instance_motion.h"
 #include "ref_counted.h"
 
 namespace obvh::api {
@@ -42,7 +43,13 @@ class Geometry : public RefCounted {
   void* bufferData(int type, unsigned slot);
   void updateBuffer(int type, unsigned slot);
 
+  // Motion blur: meshes take one vertex buffer per time step (vertexBuffer(step)) and instances one
+  // transform, spread over the time range; other types have one time step.
   void setTimeStepCount(unsigned count);
+  unsigned timeStepCount() const { return timeSteps_; }
+  void setTimeRange(float start, float end);
+  float timeStart() const { return timeStart_; }
+  float timeEnd() const { return timeEnd_; }
   void setVertexAttributeCount(unsigned count);
   void setMask(unsigned mask);
   void setBuildQuality(int quality);
@@ -55,8 +62,11 @@ class Geometry : public RefCounted {
   Scene* instancedScene() const { return instancedScene_; }
   void setTransform(unsigned timeStep, int format, const void* xfm);
   void setTransform(unsigned timeStep, const Affine3f& xfm);
-  const Affine3f& transform() const { return transform_; }
-  void getTransform(int format, void* xfm) const;
+  void setTransform(unsigned timeStep, const QuaternionDecomposition& decomposition);
+  const Affine3f& transform() const { return transforms_[0]; }
+  // The transforms of every time step, for a moving instance.
+  InstanceMotion instanceMotion() const;
+  void getTransform(float time, int format, void* xfm) const;
 
   // User geometry.
   void setUserPrimitiveCount(unsigned count);
@@ -83,7 +93,7 @@ class Geometry : public RefCounted {
   // Changes whenever something a scene build depends on changes.
   uint64_t modificationCounter() const { return modCounter_.load(); }
   const BufferView& indexBuffer() const { return index_; }
-  const BufferView& vertexBuffer() const { return vertices_[0]; }
+  const BufferView& vertexBuffer(unsigned timeStep = 0) const { return vertices_.at(timeStep); }
   bool isQuadMesh() const { return type_ == RTC_GEOMETRY_TYPE_QUAD; }
   bool isGridMesh() const { return type_ == RTC_GEOMETRY_TYPE_GRID; }
   // Float3 vertices and a primitive buffer: indices (triangles, quads) or RTCGrid records (grids,
@@ -115,7 +125,11 @@ class Geometry : public RefCounted {
   void* userData_ = nullptr;
   std::atomic<uint64_t> modCounter_{0};
   Scene* instancedScene_ = nullptr;  // retained while set
-  Affine3f transform_;
+  unsigned timeSteps_ = 1;
+  std::vector<Affine3f> transforms_{Affine3f{}};  // per time step
+  std::vector<QuaternionDecomposition> decompositions_{QuaternionDecomposition{}};  // where given so
+  std::vector<uint8_t> givenAsDecomposition_{0};
+  float timeStart_ = 0.f, timeEnd_ = 1.f;
   UserCallbacks user_;
   RTCFilterFunctionN intersectFilter_ = nullptr;
   RTCFilterFunctionN occludedFilter_ = nullptr;

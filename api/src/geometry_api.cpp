@@ -75,9 +75,7 @@ RTC_API void rtcSetGeometryTimeStepCount(RTCGeometry geometry, unsigned int time
 }
 
 RTC_API void rtcSetGeometryTimeRange(RTCGeometry geometry, float startTime, float endTime) {
-  withGeometry(geometry, [&](Geometry&) {
-    if (startTime > endTime) fail(RTC_ERROR_INVALID_ARGUMENT, "startTime has to be smaller or equal to the endTime");
-  });
+  withGeometry(geometry, [&](Geometry& g) { g.setTimeRange(startTime, endTime); });
 }
 
 RTC_API void rtcSetGeometryVertexAttributeCount(RTCGeometry geometry, unsigned int count) {
@@ -185,30 +183,18 @@ RTC_API void rtcSetGeometryTransformQuaternion(RTCGeometry geometry, unsigned in
                                                const RTCQuaternionDecomposition* qd) {
   withGeometry(geometry, [&](Geometry& g) {
     requireHandle(qd);
-    obvh::Affine3f s;
-    s.vx = {qd->scale_x, 0.f, 0.f};
-    s.vy = {qd->skew_xy, qd->scale_y, 0.f};
-    s.vz = {qd->skew_xz, qd->skew_yz, qd->scale_z};
-    s.p = {qd->shift_x, qd->shift_y, qd->shift_z};
-    float r = qd->quaternion_r, i = qd->quaternion_i, j = qd->quaternion_j, k = qd->quaternion_k;
-    const float norm = std::sqrt(r * r + i * i + j * j + k * k);
-    if (!(norm > 0.f)) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid quaternion");
-    r /= norm, i /= norm, j /= norm, k /= norm;
-    obvh::Affine3f rot;
-    rot.vx = {1 - 2 * (j * j + k * k), 2 * (i * j + r * k), 2 * (i * k - r * j)};
-    rot.vy = {2 * (i * j - r * k), 1 - 2 * (i * i + k * k), 2 * (j * k + r * i)};
-    rot.vz = {2 * (i * k + r * j), 2 * (j * k - r * i), 1 - 2 * (i * i + j * j)};
-    obvh::Affine3f m;
-    m.vx = rot.xfmVector(s.vx);
-    m.vy = rot.xfmVector(s.vy);
-    m.vz = rot.xfmVector(s.vz);
-    m.p = rot.xfmVector(s.p) + obvh::Vec3f{qd->translation_x, qd->translation_y, qd->translation_z};
-    g.setTransform(timeStep, m);
+    obvh::QuaternionDecomposition d;
+    d.scale = {qd->scale_x, qd->scale_y, qd->scale_z};
+    d.skewXY = qd->skew_xy, d.skewXZ = qd->skew_xz, d.skewYZ = qd->skew_yz;
+    d.shift = {qd->shift_x, qd->shift_y, qd->shift_z};
+    d.translation = {qd->translation_x, qd->translation_y, qd->translation_z};
+    d.r = qd->quaternion_r, d.i = qd->quaternion_i, d.j = qd->quaternion_j, d.k = qd->quaternion_k;
+    g.setTransform(timeStep, d);
   });
 }
 
-RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float, RTCFormat format, void* xfm) {
-  withGeometry(geometry, [&](Geometry& g) { g.getTransform(enumBits(format), xfm); });
+RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float time, RTCFormat format, void* xfm) {
+  withGeometry(geometry, [&](Geometry& g) { g.getTransform(time, enumBits(format), xfm); });
 }
 
 RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float) { failForThisGeometry(geometry); }

@@ -71,8 +71,8 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
   if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes");
   const BufferView* values = nullptr;
   if (type == RTC_BUFFER_TYPE_VERTEX) {
-    if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
-    values = &g.vertexBuffer();
+    if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+    values = &g.vertexBuffer(slot);
   } else if (type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE) {
     values = &g.attributeBuffer(slot);
   } else {

@@ -23,6 +23,7 @@ class PointQueryDispatch final : public obvh::PointQueryCallbacks {
       : query_(query), context_(context), fn_(fn), userPtr_(userPtr) {}
 
   float radius() const override { return query_.radius; }
+  float time() const override { return query_.time; }
 
   bool visit(const void* owner, uint32_t geomID, uint32_t primID, const obvh::PointQueryInstance* instance) override {
     const Scene& scene = *static_cast<const Scene*>(owner);

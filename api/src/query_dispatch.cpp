@@ -81,6 +81,7 @@ Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
   ray.tnear = RTCRayN_tnear(rays, N, i);
   ray.tfar = RTCRayN_tfar(rays, N, i);
   ray.mask = masksOn ? RTCRayN_mask(rays, N, i) : 0xFFFFFFFFu;
+  ray.time = RTCRayN_time(rays, N, i);
   return ray;
 }
 

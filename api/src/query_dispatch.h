@@ -30,6 +30,7 @@ inline Ray backendRay(const RTCRay& r, bool masksOn) {
   ray.tnear = r.tnear;
   ray.tfar = r.tfar;
   ray.mask = masksOn ? r.mask : 0xFFFFFFFFu;
+  ray.time = r.time;
   return ray;
 }
 

@@ -87,7 +87,23 @@ MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
   mesh.topology = g.isGridMesh() ? MeshTopology::Grids : g.isQuadMesh() ? MeshTopology::Quads : MeshTopology::Triangles;
   mesh.geomID = geomID;
   mesh.mask = g.mask();
+  if (g.timeStepCount() > 1) {
+    for (unsigned step = 0; step < g.timeStepCount(); ++step) mesh.timeStepVertices.push_back(g.vertexBuffer(step).data());
+    mesh.timeStart = g.timeStart();
+    mesh.timeEnd = g.timeEnd();
+  }
   return mesh;
+}
+
+// A mesh is built when its primitive buffer and the vertex buffers of every time step are set, the
+// steps all of one size (Embree's geometry verification).
+bool meshBuffersComplete(const Geometry& g) {
+  if (!g.indexBuffer().bound() || !g.indexBuffer().data()) return false;
+  for (unsigned step = 0; step < g.timeStepCount(); ++step) {
+    const BufferView& v = g.vertexBuffer(step);
+    if (!v.bound() || !v.data() || v.itemCount != g.vertexBuffer().itemCount) return false;
+  }
+  return true;
 }
 
 // Sphere points and flat linear curves: their float4 vertices (and a curve's segment indices) are
@@ -175,8 +191,7 @@ void Scene::rebuild() {
       case RTC_GEOMETRY_TYPE_TRIANGLE:
       case RTC_GEOMETRY_TYPE_QUAD:
       case RTC_GEOMETRY_TYPE_GRID:
-        if (g->indexBuffer().bound() && g->vertexBuffer().bound() && g->indexBuffer().data() && g->vertexBuffer().data())
-          desc.meshes.push_back(meshOf(*g, uint32_t(id)));
+        if (meshBuffersComplete(*g)) desc.meshes.push_back(meshOf(*g, uint32_t(id)));
         break;
       case RTC_GEOMETRY_TYPE_SPHERE_POINT:
       case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
@@ -193,7 +208,7 @@ void Scene::rebuild() {
         child->requireCommitted();
         builtChildGenerations_[id] = child->buildGeneration();
         needsCallbacks_ |= child->needsCallbacks();
-        desc.instances.push_back({&child->accel(), g->transform(), uint32_t(id), g->mask()});
+        desc.instances.push_back({&child->accel(), g->transform(), uint32_t(id), g->mask(), g->instanceMotion()});
         break;
       }
       default:
@@ -281,8 +296,9 @@ void Scene::commit() {
   }
 }
 
-RTCBounds Scene::bounds() const {
-  const Box3f& b = accel_.bounds();
+namespace {
+
+RTCBounds embreeBounds(const Box3f& b) {
   RTCBounds out{};
   out.lower_x = b.lower.x;
   out.lower_y = b.lower.y;
@@ -291,6 +307,15 @@ RTCBounds Scene::bounds() const {
   out.upper_y = b.upper.y;
   out.upper_z = b.upper.z;
   return out;
+}
+
+}  // namespace
+
+RTCBounds Scene::bounds() const { return embreeBounds(accel_.bounds()); }
+
+RTCLinearBounds Scene::linearBounds() const {
+  const auto [start, end] = accel_.linearBounds();
+  return {embreeBounds(start), embreeBounds(end)};
 }
 
 }  // namespace obvh::api

@@ -35,6 +35,7 @@ class Scene : public RefCounted {
 
   void commit();
   RTCBounds bounds() const;
+  RTCLinearBounds linearBounds() const;  // see SceneAccel::linearBounds
 
   // Throws INVALID_OPERATION when the scene changed since its last commit.
   void requireCommitted() const {

@@ -105,8 +105,7 @@ RTC_API void rtcGetSceneLinearBounds(RTCScene scene, RTCLinearBounds* bounds_o) 
   withScene(scene, [&](Scene& s) {
     requireHandle(bounds_o);
     s.requireCommitted();
-    bounds_o->bounds0 = s.bounds();
-    bounds_o->bounds1 = s.bounds();
+    *bounds_o = s.linearBounds();
   });
 }
 

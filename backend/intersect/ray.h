@@ -15,6 +15,7 @@ struct Ray {
   float tnear = 0.f;  // hits must lie strictly beyond tnear
   float tfar = 0.f;   // hits may lie at tfar; shrinks to the closest hit found so far
   uint32_t mask = 0xFFFFFFFFu;
+  float time = 0.f;   // in the shutter interval: where motion-blurred geometry is seen
 };
 
 struct Hit {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace obvh {
 
@@ -22,6 +23,11 @@ struct MeshDesc {
   MeshTopology topology = MeshTopology::Triangles;
   uint32_t geomID = 0;
   uint32_t mask = 0xFFFFFFFFu;
+  // Motion blur: the vertices of every time step (vertices is the first), each laid out as
+  // vertices is; empty for a mesh with one time step. The steps span [timeStart, timeEnd].
+  std::vector<const unsigned char*> timeStepVertices;
+  float timeStart = 0.f, timeEnd = 1.f;
+  bool moving() const { return timeStepVertices.size() > 1; }
 };
 
 }  // namespace obvh

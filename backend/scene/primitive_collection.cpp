@@ -3,7 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -91,11 +91,16 @@ bool loadGrid(const MeshDesc& mesh, size_t prim, uint32_t firstCell, StoredTrian
   return true;
 }
 
-}  // namespace
+// Every primitive of the meshes gets fixed slots (one per triangle) and a grid its cells, so the
+// meshes can be read in parallel; a grid's slots (two per cell) and cells start at the running
+// totals of the grids before it.
+struct SlotTable {
+  std::vector<StoredTriangle> triangles;
+  std::vector<unsigned char> valid;  // per slot
+  std::vector<GridCell> gridCells;
+};
 
-CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
-  // Every primitive gets a fixed slot first, so the meshes can be read in parallel. A grid's slots
-  // (two per cell) and cells start at the running totals of the grids before it.
+SlotTable fillSlots(const std::vector<MeshDesc>& meshes) {
   std::vector<size_t> slotOffset(meshes.size() + 1, 0);
   std::vector<std::vector<size_t>> gridCellStart(meshes.size());  // per grid, within its mesh
   std::vector<size_t> cellOffset(meshes.size() + 1, 0);
@@ -115,48 +120,51 @@ CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
   }
   const size_t slotCount = slotOffset.back();
 
-  CollectedPrimitives out;
+  SlotTable out;
   // Huge pages: in a virtual machine every first touch of a 4 KiB page is a costly fault (a table
   // of the dragon's triangles in 4 KiB pages took 100 of its 130 ms of collection).
   reserveWithHugePages(out.triangles, slotCount);
   out.triangles.resize(slotCount);
   out.gridCells.resize(cellOffset.back());
-  std::vector<unsigned char> valid(slotCount, 0);
-  std::atomic<bool> anyInvalid{false};
+  out.valid.assign(slotCount, 0);
   for (size_t m = 0; m < meshes.size(); ++m) {
     const MeshDesc& mesh = meshes[m];
     if (mesh.topology == MeshTopology::Grids) {
       const std::vector<size_t>& start = gridCellStart[m];
       tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.primCount, 64), [&](const tbb::blocked_range<size_t>& r) {
-        bool invalidSeen = false;
         for (size_t g = r.begin(); g < r.end(); ++g) {
           const size_t cell = cellOffset[m] + start[g], slot = slotOffset[m] + 2 * start[g];
           const bool ok = loadGrid(mesh, g, uint32_t(cell), &out.triangles[slot], &out.gridCells[cell]);
-          std::memset(&valid[slot], ok, 2 * (start[g + 1] - start[g]));
-          invalidSeen |= !ok;
+          std::memset(&out.valid[slot], ok, 2 * (start[g + 1] - start[g]));
         }
-        if (invalidSeen) anyInvalid.store(true, std::memory_order_relaxed);
       });
       continue;
     }
     const size_t perPrim = mesh.topology == MeshTopology::Quads ? 2 : 1;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.primCount, 4096), [&](const tbb::blocked_range<size_t>& r) {
-      bool invalidSeen = false;
       for (size_t prim = r.begin(); prim < r.end(); ++prim) {
         const size_t slot = slotOffset[m] + prim * perPrim;
         const bool ok = loadPrimitive(mesh, prim, &out.triangles[slot]);
-        for (size_t h = 0; h < perPrim; ++h) valid[slot + h] = ok;
-        invalidSeen |= !ok;
+        for (size_t h = 0; h < perPrim; ++h) out.valid[slot + h] = ok;
       }
-      if (invalidSeen) anyInvalid.store(true, std::memory_order_relaxed);
     });
   }
-  if (anyInvalid.load()) {
+  return out;
+}
+
+}  // namespace
+
+CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
+  SlotTable slots = fillSlots(meshes);
+  CollectedPrimitives out;
+  out.triangles = std::move(slots.triangles);
+  out.gridCells = std::move(slots.gridCells);
+  if (std::find(slots.valid.begin(), slots.valid.end(), 0) != slots.valid.end()) {
     // Rare (broken input): drop the invalid slots, keeping the order of the rest. The cells of a
     // dropped grid stay in the table, unreferenced, so every kept triangle's cell index holds.
     size_t kept = 0;
-    for (size_t s = 0; s < slotCount; ++s)
-      if (valid[s]) out.triangles[kept++] = out.triangles[s];
+    for (size_t s = 0; s < out.triangles.size(); ++s)
+      if (slots.valid[s]) out.triangles[kept++] = out.triangles[s];
     out.triangles.resize(kept);
   }
 
@@ -174,6 +182,66 @@ CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
     }
   });
   return out;
+}
+
+CollectedMotion collectMotionPrimitives(const std::vector<MeshDesc>& meshes) {
+  CollectedMotion out;
+  for (const MeshDesc& mesh : meshes) {
+    // The same slots at every time step; a primitive is kept when it is valid at all of them.
+    const size_t steps = mesh.timeStepVertices.size();
+    std::vector<SlotTable> tables(steps);
+    for (size_t s = 0; s < steps; ++s) {
+      MeshDesc step = mesh;
+      step.vertices = mesh.timeStepVertices[s];
+      tables[s] = fillSlots({step});
+    }
+    const uint32_t cellBase = uint32_t(out.gridCells.size());
+    out.gridCells.insert(out.gridCells.end(), tables[0].gridCells.begin(), tables[0].gridCells.end());
+    for (size_t slot = 0; slot < tables[0].triangles.size(); ++slot) {
+      bool valid = true;
+      for (const SlotTable& t : tables) valid &= t.valid[slot] != 0;
+      if (!valid) continue;
+      const StoredTriangle& first = tables[0].triangles[slot];
+      MotionTriangle tri;
+      tri.geomID = first.geomID;
+      tri.primID = isGridCell(first.kind) ? cellBase + first.primID : first.primID;
+      tri.kind = first.kind;
+      tri.firstVertex = uint32_t(out.vertices.size());
+      tri.stepCount = uint32_t(steps);
+      tri.timeStart = mesh.timeStart;
+      tri.timeEnd = mesh.timeEnd;
+      for (const SlotTable& t : tables) {
+        const StoredTriangle& at = t.triangles[slot];
+        out.vertices.insert(out.vertices.end(), {at.v0, at.v1, at.v2});
+      }
+      out.triangles.push_back(tri);
+    }
+  }
+  return out;
+}
+
+StoredTriangle MotionTriangle::at(const std::vector<Vec3f>& vertices, float localTime) const {
+  // The time segment the local time falls in, and how far into it, as Embree divides the range.
+  const float segments = float(stepCount - 1);
+  const float ftime = localTime * segments;
+  const int segment = std::clamp(int(std::floor(ftime)), 0, int(stepCount) - 2);
+  const float f = ftime - float(segment), g = 1.f - f;
+  const Vec3f* a = &vertices[firstVertex + 3 * size_t(segment)];
+  const Vec3f* b = a + 3;
+  StoredTriangle tri;
+  tri.v0 = a[0] * g + b[0] * f;
+  tri.v1 = a[1] * g + b[1] * f;
+  tri.v2 = a[2] * g + b[2] * f;
+  tri.geomID = geomID;
+  tri.primID = primID;
+  tri.kind = kind;
+  return tri;
+}
+
+Box3f MotionTriangle::bounds(const std::vector<Vec3f>& vertices) const {
+  Box3f box;
+  for (size_t k = 0; k < 3 * size_t(stepCount); ++k) box.extend(vertices[firstVertex + k]);
+  return box;
 }
 
 }  // namespace obvh

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "builders/prim_ref.h"
+#include "math/vec3.h"
 #include "intersect/triangle.h"
 #include "scene/mesh_desc.h"
 
@@ -18,9 +19,38 @@ struct CollectedPrimitives {
   std::vector<GridCell> gridCells;        // the cells of every grid, indexed by their triangles' primID
 };
 
+// Triangles of motion-blurred meshes (more than one time step): their vertices at every step,
+// interpolated linearly within the segment a ray's time falls in.
+struct MotionTriangle {
+  uint32_t geomID = 0, primID = 0;  // primID: a grid cell's index in CollectedMotion::gridCells
+  TriangleKind kind = TriangleKind::Triangle;
+  uint32_t firstVertex = 0;         // three vertices per time step in CollectedMotion::vertices
+  uint32_t stepCount = 2;
+  float timeStart = 0.f, timeEnd = 1.f;
+
+  // The time relative to [timeStart, timeEnd] (0 and 1 at its ends): outside [0, 1] the mesh is
+  // not there.
+  float localTime(float time) const {
+    return timeEnd > timeStart ? (time - timeStart) / (timeEnd - timeStart) : (time == timeStart ? 0.f : -1.f);
+  }
+  // The triangle at a local time in [0, 1].
+  StoredTriangle at(const std::vector<Vec3f>& vertices, float localTime) const;
+  // Bounds of every time step (and so of all times between).
+  Box3f bounds(const std::vector<Vec3f>& vertices) const;
+};
+
+struct CollectedMotion {
+  std::vector<MotionTriangle> triangles;
+  std::vector<Vec3f> vertices;
+  std::vector<GridCell> gridCells;
+};
+
 // A primitive is skipped when an index is out of range or one of its vertices is invalid; a grid
 // is skipped whole when one of its vertices is (as Embree does), and has no cells when its width or
 // height is below 2.
 CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes);
+
+// The same for moving meshes (MeshDesc::moving()); a primitive invalid at any time step is skipped.
+CollectedMotion collectMotionPrimitives(const std::vector<MeshDesc>& meshes);
 
 }  // namespace obvh

@@ -154,8 +154,11 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   occlusionFiltered_.resize(desc.geometryIdLimit, 0);
 
   requested_ = options;
-  CollectedPrimitives collected = collectPrimitives(desc.meshes);
+  std::vector<MeshDesc> still, moving;
+  for (const MeshDesc& mesh : desc.meshes) (mesh.moving() ? moving : still).push_back(mesh);
+  CollectedPrimitives collected = collectPrimitives(still);
   gridCells_ = std::move(collected.gridCells);
+  motion_ = collectMotionPrimitives(moving);
   buildTriangleTree(collected, options);
 
   std::vector<ObjectRef> objects;
@@ -163,15 +166,13 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   instances_.clear();
   for (const InstanceDesc& inst : desc.instances) {
     if (!inst.child) continue;
-    const Box3f world = inst.localToWorld.xfmBounds(inst.child->bounds());
+    const Box3f world = inst.motion.moving() ? inst.motion.bounds(inst.child->bounds())
+                                             : inst.localToWorld.xfmBounds(inst.child->bounds());
     if (!isUsableBox(world)) continue;
     objectRefs.push_back({world, uint32_t(objects.size())});
     objects.push_back({ObjectKind::Instance, uint32_t(instances_.size()), 0, world});
-    const Affine3d worldToLocal = Affine3d::inverseOf(inst.localToWorld);
-    // Embree's similarity scale is that of the world-to-instance direction.
-    const float scale = uniformScaleOf(inst.localToWorld);
-    instances_.push_back({inst.child, worldToLocal, inst.geomID, inst.localToWorld, scale > 0.f ? 1.f / scale : 0.f,
-                          operatorNormBound(worldToLocal)});
+    instances_.push_back(makeInstance(inst.child, inst.localToWorld, inst.geomID));
+    instances_.back().motion = inst.motion;
   }
   for (const UserGeometryDesc& user : desc.userGeometries)
     for (size_t prim = 0; prim < user.primitiveBounds.size(); ++prim) {
@@ -179,6 +180,11 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
       objectRefs.push_back({user.primitiveBounds[prim], uint32_t(objects.size())});
       objects.push_back({ObjectKind::UserPrimitive, user.geomID, uint32_t(prim), user.primitiveBounds[prim]});
     }
+  for (size_t i = 0; i < motion_.triangles.size(); ++i) {
+    const Box3f bounds = motion_.triangles[i].bounds(motion_.vertices);
+    objectRefs.push_back({bounds, uint32_t(objects.size())});
+    objects.push_back({ObjectKind::MotionTriangle, uint32_t(i), motion_.triangles[i].primID, bounds});
+  }
   shapes_.clear();
   for (const ShapeGeometryDesc& geometry : desc.shapes) {
     const bool curve = geometry.kind == ShapeKind::FlatLinearCurve;
@@ -218,6 +224,9 @@ void SceneAccel::makeTriangleViews() {
                         intersectFiltered_.data(), occlusionFiltered_.data(),
                         owner_,                 options_.intersector == IntersectorMode::Fast,
                         gridCells_.data()};
+  motionSet_ = set;
+  motionSet_.triangles = nullptr;
+  motionSet_.gridCells = motion_.gridCells.data();
   triangleView_ = TriangleBvhView{};
   triangleView4_ = {};
   triangleBvh4_ = {};
@@ -314,6 +323,9 @@ bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
   if (layout_ == AccelLayout::Obb || layout_ == AccelLayout::Hybrid) return false;
   if (!desc.instances.empty() || !desc.userGeometries.empty() || !desc.shapes.empty() || !objects_.empty()) return false;
   if (desc.geometryIdLimit != geometryMasks_.size()) return false;
+  if (!motion_.triangles.empty()) return false;
+  for (const MeshDesc& mesh : desc.meshes)
+    if (mesh.moving()) return false;
   std::vector<uint8_t> intersectFiltered = desc.intersectFiltered, occlusionFiltered = desc.occlusionFiltered;
   intersectFiltered.resize(desc.geometryIdLimit, 0);
   occlusionFiltered.resize(desc.geometryIdLimit, 0);
@@ -336,6 +348,57 @@ bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
   bounds_ = triangleBvh_.nodes[0].bounds;
   makeTriangleViews();
   return true;
+}
+
+std::pair<Box3f, Box3f> SceneAccel::linearBounds() const {
+  Box3f still;
+  if (!triangleBvh_.empty()) still.extend(triangleBvh_.nodes[0].bounds);
+  for (const ObjectRef& object : objects_)
+    if (object.kind != ObjectKind::MotionTriangle) still.extend(object.bounds);
+  Box3f start = still, end = still;
+  for (const MotionTriangle& motion : motion_.triangles) {
+    const auto stepBox = [&](uint32_t step) {
+      Box3f box;
+      for (int k = 0; k < 3; ++k) box.extend(motion_.vertices[motion.firstVertex + 3 * size_t(step) + k]);
+      return box;
+    };
+    if (motion.timeStart != 0.f || motion.timeEnd != 1.f) {  // steps off the shutter's ends: all of it
+      start.extend(motion.bounds(motion_.vertices));
+      end.extend(motion.bounds(motion_.vertices));
+      continue;
+    }
+    // The first and last steps' boxes, widened until the blend holds every step in between.
+    const uint32_t last = motion.stepCount - 1;
+    Box3f b0 = stepBox(0), b1 = stepBox(last);
+    for (uint32_t step = 1; step < last; ++step) {
+      const Box3f b = stepBox(step);
+      const float t = float(step) / float(last);
+      for (int a = 0; a < 3; ++a) {
+        const float below = (1.f - t) * b0.lower[a] + t * b1.lower[a] - b.lower[a];
+        if (below > 0.f) b0.lower[a] -= below, b1.lower[a] -= below;
+        const float above = b.upper[a] - ((1.f - t) * b0.upper[a] + t * b1.upper[a]);
+        if (above > 0.f) b0.upper[a] += above, b1.upper[a] += above;
+      }
+    }
+    start.extend(b0);
+    end.extend(b1);
+  }
+  return {start, end};
+}
+
+SceneAccel::Instance SceneAccel::makeInstance(const SceneAccel* child, const Affine3f& localToWorld, uint32_t geomID) {
+  const Affine3d worldToLocal = Affine3d::inverseOf(localToWorld);
+  // Embree's similarity scale is that of the world-to-instance direction.
+  const float scale = uniformScaleOf(localToWorld);
+  return {child, worldToLocal, geomID, localToWorld, scale > 0.f ? 1.f / scale : 0.f, operatorNormBound(worldToLocal), {}};
+}
+
+const SceneAccel::Instance* SceneAccel::placedAt(const Instance& instance, float time, Instance& storage) {
+  if (!instance.motion.moving()) return &instance;
+  Affine3f localToWorld;
+  if (!instance.motion.at(time, localToWorld)) return nullptr;
+  storage = makeInstance(instance.child, localToWorld, instance.geomID);
+  return &storage;
 }
 
 Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {
@@ -368,13 +431,31 @@ bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit,
   return true;
 }
 
-bool SceneAccel::intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const {
+bool SceneAccel::intersectMotionTriangle(const MotionTriangle& motion, Ray& ray, Hit& hit, const QueryState& state,
+                                         bool occlusion, WatertightRayOnDemand& watertight) const {
+  const float localTime = motion.localTime(ray.time);
+  if (!(localTime >= 0.f && localTime <= 1.f)) return false;
+  // The triangle at that time, tested as a leaf of one triangle (masks, filters, Embree's hit).
+  const StoredTriangle tri = motion.at(motion_.vertices, localTime);
+  TriangleSet set = motionSet_;
+  set.triangles = &tri;
+  const WatertightRay& wr = watertight.of(ray, set);
+  return occlusion ? intersectLeafAny(set, 0, 1, wr, ray, state) : intersectLeafClosest(set, 0, 1, wr, ray, hit, state);
+}
+
+bool SceneAccel::intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state,
+                                 WatertightRayOnDemand& watertight) const {
   if (object.kind == ObjectKind::Shape) return intersectShape(shapes_[object.index], ray, hit, state, false);
+  if (object.kind == ObjectKind::MotionTriangle)
+    return intersectMotionTriangle(motion_.triangles[object.index], ray, hit, state, false, watertight);
   if (object.kind == ObjectKind::UserPrimitive) {
     if ((geometryMasks_[object.index] & ray.mask) == 0 || !state.callbacks) return false;
     return state.callbacks->intersectUser(owner_, object.index, object.primID, ray, hit, state);
   }
-  const Instance& instance = instances_[object.index];
+  Instance storage;
+  const Instance* placed = placedAt(instances_[object.index], ray.time, storage);
+  if (!placed) return false;
+  const Instance& instance = *placed;
   if ((geometryMasks_[instance.geomID] & ray.mask) == 0 || state.instanceLevel >= kMaxInstanceLevel) return false;
   Ray local = toLocal(instance, ray);
   QueryState inner = state;
@@ -385,7 +466,13 @@ bool SceneAccel::intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, co
   return true;
 }
 
-bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const {
+bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state,
+                                WatertightRayOnDemand& watertight) const {
+  if (object.kind == ObjectKind::MotionTriangle) {
+    Ray copy = ray;
+    Hit unused;
+    return intersectMotionTriangle(motion_.triangles[object.index], copy, unused, state, true, watertight);
+  }
   if (object.kind == ObjectKind::Shape) {
     Ray copy = ray;
     Hit unused;
@@ -396,7 +483,10 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
     Ray copy = ray;
     return state.callbacks->occludedUser(owner_, object.index, object.primID, copy, state);
   }
-  const Instance& instance = instances_[object.index];
+  Instance storage;
+  const Instance* placed = placedAt(instances_[object.index], ray.time, storage);
+  if (!placed) return false;
+  const Instance& instance = *placed;
   if ((geometryMasks_[instance.geomID] & ray.mask) == 0 || state.instanceLevel >= kMaxInstanceLevel) return false;
   QueryState inner = state;
   inner.instID = instance.geomID;
@@ -407,9 +497,10 @@ bool SceneAccel::occludedObject(const ObjectRef& object, const Ray& ray, const Q
 bool SceneAccel::intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const {
   if (objectBvh_.empty()) return false;
   bool found = false;
+  WatertightRayOnDemand watertight;
   traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i)
-      if (intersectObject(objects_[leaf.firstChildOrPrim + i], ray, hit, state)) found = true;
+      if (intersectObject(objects_[leaf.firstChildOrPrim + i], ray, hit, state, watertight)) found = true;
     return false;
   });
   return found;
@@ -418,9 +509,10 @@ bool SceneAccel::intersectObjects(Ray& ray, Hit& hit, const QueryState& state) c
 bool SceneAccel::occludedObjects(const Ray& ray, const QueryState& state) const {
   if (objectBvh_.empty()) return false;
   bool found = false;
+  WatertightRayOnDemand watertight;
   traverseBvh2(objectBvh_.nodes.data(), ray, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i)
-      if (occludedObject(objects_[leaf.firstChildOrPrim + i], ray, state)) {
+      if (occludedObject(objects_[leaf.firstChildOrPrim + i], ray, state, watertight)) {
         found = true;
         return true;
       }
@@ -524,23 +616,23 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
   auto radius = [&] { return callbacks.radius() * radiusScale; };
   // Quads are stored as two triangles and grids as many; the callback must see each quad or grid once.
   std::vector<uint64_t> visitedQuads;
-  traverseSphere(triangleBvh_, p, radius, [&](const Bvh2Node& leaf) {
-    for (uint32_t i = 0; i < leaf.primCount; ++i) {
-      const StoredTriangle& tri = triangles_[leaf.firstChildOrPrim + i];
-      Box3f b;
-      b.extend(tri.v0);
-      b.extend(tri.v1);
-      b.extend(tri.v2);
-      const float r = radius();
-      if (!(distanceSquaredToBox(p, b) <= r * r)) continue;
-      const uint32_t primID = isGridCell(tri.kind) ? gridCells_[tri.primID].gridPrimID : tri.primID;
-      if (tri.kind != TriangleKind::Triangle) {
-        const uint64_t key = (uint64_t(tri.geomID) << 32) | primID;
-        if (std::find(visitedQuads.begin(), visitedQuads.end(), key) != visitedQuads.end()) continue;
-        visitedQuads.push_back(key);
-      }
-      changed |= callbacks.visit(owner_, tri.geomID, primID, instance);
+  const auto visitTriangle = [&](const StoredTriangle& tri, const std::vector<GridCell>& cells) {
+    Box3f b;
+    b.extend(tri.v0);
+    b.extend(tri.v1);
+    b.extend(tri.v2);
+    const float r = radius();
+    if (!(distanceSquaredToBox(p, b) <= r * r)) return;
+    const uint32_t primID = isGridCell(tri.kind) ? cells[tri.primID].gridPrimID : tri.primID;
+    if (tri.kind != TriangleKind::Triangle) {
+      const uint64_t key = (uint64_t(tri.geomID) << 32) | primID;
+      if (std::find(visitedQuads.begin(), visitedQuads.end(), key) != visitedQuads.end()) return;
+      visitedQuads.push_back(key);
     }
+    changed |= callbacks.visit(owner_, tri.geomID, primID, instance);
+  };
+  traverseSphere(triangleBvh_, p, radius, [&](const Bvh2Node& leaf) {
+    for (uint32_t i = 0; i < leaf.primCount; ++i) visitTriangle(triangles_[leaf.firstChildOrPrim + i], gridCells_);
   });
   traverseSphere(objectBvh_, p, radius, [&](const Bvh2Node& leaf) {
     for (uint32_t i = 0; i < leaf.primCount; ++i) {
@@ -556,8 +648,17 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
         changed |= callbacks.visit(owner_, shape.geomID, shape.primID, instance);
         continue;
       }
+      if (object.kind == ObjectKind::MotionTriangle) {  // where it is at the query's time
+        const MotionTriangle& motion = motion_.triangles[object.index];
+        const float localTime = motion.localTime(callbacks.time());
+        if (localTime >= 0.f && localTime <= 1.f) visitTriangle(motion.at(motion_.vertices, localTime), motion_.gridCells);
+        continue;
+      }
       if (instance) continue;  // one instance level, as for rays
-      const Instance& inst = instances_[object.index];
+      Instance storage;
+      const Instance* placed = placedAt(instances_[object.index], callbacks.time(), storage);
+      if (!placed) continue;
+      const Instance& inst = *placed;
       const PointQueryInstance frame{inst.geomID, &inst.localToWorld, inst.similarityScale};
       changed |= inst.child->pointQuery(inst.worldToLocal.xfmPoint(p), callbacks, &frame,
                                         radiusScale * inst.radiusToLocal);

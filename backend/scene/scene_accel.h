@@ -2,6 +2,7 @@
 // (instances of other scenes and user-geometry primitives), queried one after the other.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "builders/build_options.h"
@@ -42,6 +43,9 @@ class SceneAccel {
   bool refit(const SceneDesc& desc, const BuildOptions& options);
 
   const Box3f& bounds() const { return bounds_; }
+  // Boxes at the start and the end of the shutter [0, 1] whose linear blend at any time in between
+  // holds everything the scene's rays can meet at that time (Embree's rtcGetSceneLinearBounds).
+  std::pair<Box3f, Box3f> linearBounds() const;
   // The triangle layout traced (accel=hybrid may have settled on a wide AABB layout).
   AccelLayout layout() const { return layout_; }
   SceneStats stats() const;
@@ -89,10 +93,11 @@ class SceneAccel {
   }
   bool intersectOrientedWideTriangles(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const;
   bool occludedOrientedWideTriangles(const Ray& ray, const QueryState& state, TraversalCounters* counters) const;
-  enum class ObjectKind : uint32_t { Instance, UserPrimitive, Shape };
+  enum class ObjectKind : uint32_t { Instance, UserPrimitive, Shape, MotionTriangle };
   struct ObjectRef {
     ObjectKind kind;
-    uint32_t index;   // into instances_ (Instance), the geomID (UserPrimitive) or into shapes_ (Shape)
+    uint32_t index;   // into instances_ (Instance), the geomID (UserPrimitive), into shapes_ (Shape)
+                      // or into motion_.triangles (MotionTriangle)
     uint32_t primID;  // UserPrimitive only
     Box3f bounds;     // world bounds, for point queries
   };
@@ -103,7 +108,12 @@ class SceneAccel {
     Affine3f localToWorld;
     float similarityScale;  // see PointQueryInstance
     float radiusToLocal;    // bound on how much worldToLocal stretches lengths
+    InstanceMotion motion;  // when moving, the fields above hold at its time (placedAt)
   };
+  // The instance placed at `time`: itself when it does not move, else built in `storage`; null when
+  // it is not there then.
+  static const Instance* placedAt(const Instance& instance, float time, Instance& storage);
+  static Instance makeInstance(const SceneAccel* child, const Affine3f& localToWorld, uint32_t geomID);
 
   // A sphere, or a flat curve segment (its two vertices).
   struct ShapePrimitive {
@@ -112,9 +122,15 @@ class SceneAccel {
     ShapeVertex a, b;
   };
 
-  bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state) const;
+  // watertight: the ray's frame for moving triangles, made once per ray (it depends on org and dir).
+  bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state,
+                       WatertightRayOnDemand& watertight) const;
   bool intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state, bool occlusion) const;
-  bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state) const;
+  bool occludedObject(const ObjectRef& object, const Ray& ray, const QueryState& state,
+                      WatertightRayOnDemand& watertight) const;
+  // A moving triangle at the ray's time (nothing outside its mesh's time range).
+  bool intersectMotionTriangle(const MotionTriangle& motion, Ray& ray, Hit& hit, const QueryState& state,
+                               bool occlusion, WatertightRayOnDemand& watertight) const;
   void buildTriangleTree(CollectedPrimitives& collected, const BuildOptions& options);
   bool orientedBoxesPayOff() const;
   void makeTriangleViews();
@@ -143,6 +159,9 @@ class SceneAccel {
   std::vector<ObjectRef> objects_;
   std::vector<Instance> instances_;
   std::vector<ShapePrimitive> shapes_;
+  // Triangles of motion-blurred meshes, and the set (filters, masks, their grid cells) they test with.
+  CollectedMotion motion_;
+  TriangleSet motionSet_;
 
   std::vector<GridCell> gridCells_;  // grid cells, indexed by the primID of their triangles
   std::vector<uint32_t> geometryMasks_;

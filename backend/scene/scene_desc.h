@@ -6,6 +6,7 @@
 
 #include "intersect/shapes.h"
 #include "math/affine.h"
+#include "scene/instance_motion.h"
 #include "scene/mesh_desc.h"
 
 namespace obvh {
@@ -14,9 +15,10 @@ class SceneAccel;
 
 struct InstanceDesc {
   const SceneAccel* child = nullptr;  // a committed scene; it must outlive this one's use of it
-  Affine3f localToWorld;
+  Affine3f localToWorld;              // the first time step's, when it moves
   uint32_t geomID = 0;
   uint32_t mask = 0xFFFFFFFFu;
+  InstanceMotion motion;              // motion blur: empty unless it moves
 };
 
 // Embree user geometry: the API computed each primitive's bounds with the user's callback.

@@ -20,6 +20,8 @@ class PointQueryCallbacks {
   virtual ~PointQueryCallbacks() = default;
   // The current query radius in world space (callbacks may shrink it).
   virtual float radius() const = 0;
+  // The query's time: where motion-blurred geometry is.
+  virtual float time() const = 0;
   // Called once per primitive whose bounds overlap the query sphere; returns true when the
   // callback changed the query (for example shrank the radius).
   virtual bool visit(const void* owner, uint32_t geomID, uint32_t primID, const PointQueryInstance* instance) = 0;

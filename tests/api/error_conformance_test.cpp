@@ -217,6 +217,40 @@ TEST(ErrorConformance, GridBufferMisuse) {
   });
 }
 
+// Motion blur: time step counts, a vertex buffer per step of one stride, time ranges.
+TEST(ErrorConformance, MotionBlurMisuse) {
+  expectSameErrors([](Recorder& r) {
+    static float v[4 * 8] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static unsigned idx[4] = {0, 1, 2};
+    RTCGeometry g = r.lib.rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    r.lib.rtcSetGeometryTimeStepCount(g, 0);
+    r.check("0 time steps");
+    r.lib.rtcSetGeometryTimeStepCount(g, 129);
+    r.check("129 time steps");
+    r.lib.rtcSetGeometryTimeStepCount(g, 130);
+    r.check("130 time steps");
+    r.lib.rtcSetGeometryTimeStepCount(g, 3);
+    r.check("3 time steps");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 3, RTC_FORMAT_FLOAT3, v, 0, 12, 3);
+    r.check("vertex buffer slot 3 of 3 steps");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0, 12, 1);
+    for (unsigned step = 0; step < 3; ++step)
+      r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3, v, 0, step == 2 ? 16 : 12, 3);
+    r.check("vertex buffers of 3 steps, the last of stride 16");
+    r.lib.rtcCommitGeometry(g);
+    r.check("commit with unequal strides");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 2, RTC_FORMAT_FLOAT3, v, 0, 12, 3);
+    r.lib.rtcCommitGeometry(g);
+    r.check("commit with equal strides");
+    r.lib.rtcSetGeometryTimeRange(g, 0.5f, 0.25f);
+    r.check("time range 0.5 .. 0.25");
+    r.lib.rtcSetGeometryTimeRange(g, -0.5f, 1.5f);
+    r.check("time range -0.5 .. 1.5");
+    r.lib.rtcReleaseGeometry(g);
+    r.check("release");
+  });
+}
+
 TEST(ErrorConformance, SceneMisuse) {
   expectSameErrors([](Recorder& r) {
     static float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};

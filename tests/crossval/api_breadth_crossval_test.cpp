@@ -54,6 +54,31 @@ std::vector<RTCRayHit> traceAll(const RtcLibrary& lib, RTCScene scene, const std
 
 // --- Instances ----------------------------------------------------------------------------------
 
+// A committed scene of the meshes, geomIDs in their order.
+RTCScene committedSceneOf(const RtcLibrary& lib, RTCDevice device, std::initializer_list<const MeshData*> meshes) {
+  RTCScene scene = lib.rtcNewScene(device);
+  for (const MeshData* mesh : meshes) lib.rtcReleaseGeometry(addMesh(lib, device, scene, *mesh));
+  lib.rtcCommitScene(scene);
+  return scene;
+}
+
+// rtcOccluded1 of the first `count` rays through Embree's scenes[0] and obvh's scenes[1], each
+// answer judged against the flattened world flatFor(k) of ray k.
+template <typename FlatFor>
+CrossvalCounts occlusionThroughBoth(RTCScene scenes[2], const std::vector<RTCRay>& rays, size_t count,
+                                    RTCIntersectContext* context, FlatFor&& flatFor) {
+  const LoadedLibraries& libs = libraries();
+  CrossvalCounts occlusion;
+  for (size_t k = 0; k < count; ++k) {
+    RTCRay ra = rays[k], rb = rays[k];
+    libs.embree->rtcOccluded1(scenes[0], context, &ra);
+    libs.obvh->rtcOccluded1(scenes[1], context, &rb);
+    const float blocked = -std::numeric_limits<float>::infinity();
+    judgeOcclusion(flatFor(k), rays[k], ra.tfar == blocked, rb.tfar == blocked, occlusion);
+  }
+  return occlusion;
+}
+
 struct InstancePlacement {
   float m[12];  // 3x4 column major: columns vx, vy, vz, p
 };
@@ -116,10 +141,7 @@ TEST(CrossvalInstances, TransformedInstancesMatchEmbreeIncludingInstId) {
   RTCDevice devices[2] = {libs.embreeDevice, libs.obvhDevice};
   const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
   for (int k = 0; k < 2; ++k) {
-    RTCScene child = lib[k]->rtcNewScene(devices[k]);
-    lib[k]->rtcReleaseGeometry(addMesh(*lib[k], devices[k], child, child0));
-    lib[k]->rtcReleaseGeometry(addMesh(*lib[k], devices[k], child, child1));
-    lib[k]->rtcCommitScene(child);
+    RTCScene child = committedSceneOf(*lib[k], devices[k], {&child0, &child1});
     scenes[k] = lib[k]->rtcNewScene(devices[k]);
     lib[k]->rtcReleaseGeometry(addMesh(*lib[k], devices[k], scenes[k], ground));  // geomID 0: plain mesh
     for (size_t p = 0; p < placements.size(); ++p) {
@@ -166,14 +188,7 @@ TEST(CrossvalInstances, TransformedInstancesMatchEmbreeIncludingInstId) {
   EXPECT_EQ(instIdDiffers, 0u);
 
   // Occlusion through instances.
-  CrossvalCounts occlusion;
-  for (size_t k = 0; k < 20000; ++k) {
-    RTCRay ra = rays[k], rb = rays[k];
-    libs.embree->rtcOccluded1(scenes[0], &context, &ra);
-    libs.obvh->rtcOccluded1(scenes[1], &context, &rb);
-    const float hit = -std::numeric_limits<float>::infinity();
-    judgeOcclusion(flat, rays[k], ra.tfar == hit, rb.tfar == hit, occlusion);
-  }
+  const CrossvalCounts occlusion = occlusionThroughBoth(scenes, rays, 20000, &context, [&](size_t) -> const SceneData& { return flat; });
   std::printf("[crossval] %-34s %s\n", "instances occluded", occlusion.summary().c_str());
   EXPECT_EQ(occlusion.mismatched, 0u) << occlusion.summary();
 
@@ -207,6 +222,94 @@ TEST(CrossvalInstances, QuaternionDecompositionMatchesEmbree) {
     lib[k]->rtcReleaseGeometry(inst);
   }
   for (int k = 0; k < 12; ++k) EXPECT_NEAR(m[0][k], m[1][k], 1e-5f) << "element " << k;
+}
+
+// Motion blur of instances: linear blends of three transforms, and quaternion decompositions whose
+// rotation turns (interpolated along the sphere). Rays are traced at a few times; at each, the
+// world is flattened with Embree's own transform at that time (rtcGetGeometryTransform), which
+// obvh's must match, and both libraries' hits are judged against it.
+TEST(CrossvalInstances, MovingInstancesMatchEmbree) {
+  const LoadedLibraries& libs = libraries();
+  const float center[3] = {0.f, 0.f, 0.f}, lo[3] = {-1.5f, -0.2f, -1.5f}, hi[3] = {1.5f, 0.2f, 1.5f};
+  const MeshData child0 = icosphere(3, 1.f, center), child1 = box(lo, hi, true);
+  const std::vector<InstancePlacement> placements = randomPlacements(12, 9);  // 4 instances x 3 steps
+  const int linearCount = 2, instanceCount = 4, steps = 3;
+  const float times[5] = {0.f, 0.13f, 0.5f, 0.77f, 1.f};
+
+  RTCScene scenes[2];
+  RTCDevice devices[2] = {libs.embreeDevice, libs.obvhDevice};
+  const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
+  for (int k = 0; k < 2; ++k) {
+    RTCScene child = committedSceneOf(*lib[k], devices[k], {&child0, &child1});
+    scenes[k] = lib[k]->rtcNewScene(devices[k]);
+    for (int i = 0; i < instanceCount; ++i) {
+      RTCGeometry inst = lib[k]->rtcNewGeometry(devices[k], RTC_GEOMETRY_TYPE_INSTANCE);
+      lib[k]->rtcSetGeometryInstancedScene(inst, child);
+      lib[k]->rtcSetGeometryTimeStepCount(inst, steps);
+      for (int step = 0; step < steps; ++step) {
+        if (i < linearCount) {
+          lib[k]->rtcSetGeometryTransform(inst, step, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, placements[i * steps + step].m);
+          continue;
+        }
+        RTCQuaternionDecomposition qd;
+        rtcInitQuaternionDecomposition(&qd);
+        rtcQuaternionDecompositionSetScale(&qd, 0.8f + 0.1f * step, 0.6f, 1.1f);
+        rtcQuaternionDecompositionSetSkew(&qd, 0.1f * i, 0.f, -0.05f * step);
+        rtcQuaternionDecompositionSetShift(&qd, 0.3f, 0.f, -0.2f);
+        const float angle = 1.2f * float(step) + 0.4f * float(i), axis[3] = {0.267f, 0.802f, 0.535f};
+        rtcQuaternionDecompositionSetQuaternion(&qd, std::cos(angle / 2), axis[0] * std::sin(angle / 2),
+                                                axis[1] * std::sin(angle / 2), axis[2] * std::sin(angle / 2));
+        rtcQuaternionDecompositionSetTranslation(&qd, 3.f * float(i - 2), 0.5f * float(step), -1.f);
+        lib[k]->rtcSetGeometryTransformQuaternion(inst, step, &qd);
+      }
+      lib[k]->rtcCommitGeometry(inst);
+      lib[k]->rtcAttachGeometry(scenes[k], inst);  // geomID i
+      lib[k]->rtcReleaseGeometry(inst);
+    }
+    lib[k]->rtcCommitScene(scenes[k]);
+    lib[k]->rtcReleaseScene(child);
+    ASSERT_EQ(lib[k]->rtcGetDeviceError(devices[k]), RTC_ERROR_NONE) << lib[k]->label;
+  }
+  // The world at each time, placed with Embree's transforms; obvh's must be the same.
+  SceneData flat[5];
+  for (int t = 0; t < 5; ++t)
+    for (int i = 0; i < instanceCount; ++i) {
+      InstancePlacement placed[2];
+      for (int k = 0; k < 2; ++k)
+        lib[k]->rtcGetGeometryTransform(lib[k]->rtcGetGeometry(scenes[k], unsigned(i)), times[t],
+                                        RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, placed[k].m);
+      for (int e = 0; e < 12; ++e)
+        EXPECT_NEAR(placed[0].m[e], placed[1].m[e], 1e-4f * (1.f + std::fabs(placed[0].m[e])))
+            << "instance " << i << " time " << times[t] << " element " << e;
+      appendTransformed(flat[t], child0, placed[0]);
+      appendTransformed(flat[t], child1, placed[0]);
+    }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::vector<RTCRay> rays = raysAround(-8.f, 8.f, kRays, 10);
+  for (size_t k = 0; k < rays.size(); ++k) rays[k].time = times[k % 5];
+  const std::vector<RTCRayHit> a = traceAll(*libs.embree, scenes[0], rays, &context);
+  const std::vector<RTCRayHit> b = traceAll(*libs.obvh, scenes[1], rays, &context);
+  auto flatten = [](const RTCRayHit& rh) {
+    HitRecord h = tools::toHitRecord(rh);
+    if (h.hit()) h.geomID = 2 * rh.hit.instID[0] + h.geomID;
+    return h;
+  };
+  CrossvalCounts counts;
+  size_t hits = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    counts.add(tools::compareHits(flat[k % 5], rays[k], flatten(a[k]), flatten(b[k])), rays[k]);
+    hits += a[k].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  std::printf("[crossval] %-34s %s (%zu hits)\n", "moving instances", counts.summary().c_str(), hits);
+  EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
+  EXPECT_GT(hits, kRays / 20);
+  const CrossvalCounts occlusion =
+      occlusionThroughBoth(scenes, rays, 20000, &context, [&](size_t k) -> const SceneData& { return flat[k % 5]; });
+  std::printf("[crossval] %-34s %s\n", "moving instances occluded", occlusion.summary().c_str());
+  EXPECT_EQ(occlusion.mismatched, 0u) << occlusion.summary();
+  libs.embree->rtcReleaseScene(scenes[0]);
+  libs.obvh->rtcReleaseScene(scenes[1]);
 }
 
 // --- User geometry --------------------------------------------------------------------------------
@@ -448,6 +551,41 @@ TEST(CrossvalInterpolate, TrianglesQuadsAndGridsMatchEmbree) {
       lib[k]->rtcReleaseGeometry(g[k]);
     }
   }
+}
+
+// Motion blur: rtcInterpolate reads the vertex buffer of the time step its slot names.
+TEST(CrossvalInterpolate, TimeStepSlotsMatchEmbree) {
+  const LoadedLibraries& libs = libraries();
+  SceneData scene;
+  scene.meshes.push_back(moving(quadGrid(8, 0.4f, 55), 3, 56));
+  scene.meshes.push_back(moving(gridPatches(8, 0.4f, 57), 2, 58));
+  const tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  const tools::CommittedScene candidate(*libs.obvh, libs.obvhDevice, scene);
+  std::mt19937 rng(59);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  size_t compared = 0;
+  for (unsigned geomID = 0; geomID < 2; ++geomID) {
+    const MeshData& mesh = scene.meshes[geomID];
+    for (int n = 0; n < 300; ++n) {
+      const unsigned prim = unsigned(rng() % mesh.primitiveCount()), slot = unsigned(rng() % mesh.timeStepCount());
+      const float u = unit(rng), v = unit(rng);
+      float out[2][3][3];
+      const tools::CommittedScene* committed[2] = {&reference, &candidate};
+      const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
+      for (int k = 0; k < 2; ++k) {
+        RTCInterpolateArguments args{committed[k]->geometry(geomID), prim, u, v, RTC_BUFFER_TYPE_VERTEX, slot, out[k][0],
+                                     out[k][1], out[k][2], nullptr, nullptr, nullptr, 3};
+        lib[k]->rtcInterpolate(&args);
+      }
+      for (int part = 0; part < 3; ++part)
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(out[0][part][c], out[1][part][c], 1e-4f * (1.f + std::fabs(out[0][part][c])))
+              << "geometry " << geomID << " prim " << prim << " slot " << slot << " part " << part;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 600u);
+  EXPECT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
 }
 
 }  // namespace

@@ -197,6 +197,12 @@ std::vector<RTCRay> mixedRays(const SceneData& scene, size_t randomCount, int gr
   return rays;
 }
 
+void assignRandomTimes(std::vector<RTCRay>& rays, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  for (RTCRay& r : rays) r.time = unit(rng);
+}
+
 void assignMasks(std::vector<RTCRay>& rays, uint32_t seed) {
   const unsigned patterns[] = {0xFFFFFFFFu, 0x1u, 0x2u, 0x4u, 0x6u, 0x0u};
   std::mt19937 rng(seed);

@@ -78,4 +78,7 @@ std::vector<RTCRay> mixedRays(const SceneData& scene, size_t randomCount, int gr
 // Sets every ray's mask from a small set of patterns (all, single bits, none), seeded.
 void assignMasks(std::vector<RTCRay>& rays, uint32_t seed);
 
+// Sets every ray's time uniformly in the shutter [0, 1], seeded.
+void assignRandomTimes(std::vector<RTCRay>& rays, uint32_t seed);
+
 }  // namespace obvh::test

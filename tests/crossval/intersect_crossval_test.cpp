@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "crossval_harness.h"
 #include "stack_generator.h"
@@ -60,6 +61,27 @@ TEST(CrossvalIntersect, GridMeshes) {
   expectNoMismatch("grids edges", crossvalIntersect1(scene, edges));
   expectNoMismatch("grids edges robust", crossvalIntersect1(scene, edges, RTC_SCENE_FLAG_ROBUST));
   expectNoMismatch("grids occluded", crossvalOccluded1(scene, mixedRays(scene, kRandomRays / 4, kGridSide / 2, 65)));
+}
+
+// Motion blur (deformation): meshes of two, four and three time steps beside a still one, the grid
+// mesh there only in [0.2, 0.7] of the shutter; rays at random times.
+TEST(CrossvalIntersect, MotionBlurredMeshes) {
+  SceneData scene;
+  scene.name = "motion blur";
+  scene.meshes.push_back(moving(randomTriangleSoup(5000, 71), 2, 72));
+  scene.meshes.push_back(moving(quadGrid(20, 0.3f, 73), 4, 74));
+  MeshData grids = moving(gridPatches(20, 0.3f, 75), 3, 76);
+  grids.timeStart = 0.2f, grids.timeEnd = 0.7f;
+  scene.meshes.push_back(grids);
+  const float center[3] = {0.5f, 0.5f, 0.5f};
+  scene.meshes.push_back(icosphere(3, 0.2f, center));
+  std::vector<RTCRay> rays = mixedRays(scene, kRandomRays, kGridSide, 77);
+  assignRandomTimes(rays, 78);
+  expectNoMismatch("motion blur mixed", crossvalIntersect1(scene, rays));
+  expectNoMismatch("motion blur robust", crossvalIntersect1(scene, rays, RTC_SCENE_FLAG_ROBUST));
+  std::vector<RTCRay> shadows = mixedRays(scene, kRandomRays / 4, kGridSide / 2, 79);
+  assignRandomTimes(shadows, 80);
+  expectNoMismatch("motion blur occluded", crossvalOccluded1(scene, shadows));
 }
 
 // Every axis-aligned layout against Embree (the other tests use the default, bvh8 on AVX2 CPUs):

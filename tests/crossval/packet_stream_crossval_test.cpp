@@ -30,13 +30,13 @@ SceneData packetScene() {
 }
 
 struct Fixture {
-  SceneData scene = packetScene();
+  SceneData scene;
   const LoadedLibraries& libs = libraries();
   tools::CommittedScene reference{*libs.embree, libs.embreeDevice, scene};
   tools::CommittedScene candidate{*libs.obvh, libs.obvhDevice, scene};
   std::vector<RTCRay> rays = mixedRays(scene, kRays / 2, 224, 23);  // 50000 random + 50176 coherent
   RTCIntersectContext context;
-  Fixture() {
+  explicit Fixture(SceneData traced = packetScene()) : scene(std::move(traced)) {
     rtcInitIntersectContext(&context);
     assignMasks(rays, 24);
   }
@@ -56,6 +56,7 @@ void loadPacket(Packet& p, const std::vector<RTCRay>& rays, size_t first) {
     RTCRayN_org_x(r, W, i) = one.ray.org_x, RTCRayN_org_y(r, W, i) = one.ray.org_y, RTCRayN_org_z(r, W, i) = one.ray.org_z;
     RTCRayN_dir_x(r, W, i) = one.ray.dir_x, RTCRayN_dir_y(r, W, i) = one.ray.dir_y, RTCRayN_dir_z(r, W, i) = one.ray.dir_z;
     RTCRayN_tnear(r, W, i) = one.ray.tnear, RTCRayN_tfar(r, W, i) = one.ray.tfar, RTCRayN_mask(r, W, i) = one.ray.mask;
+    RTCRayN_time(r, W, i) = one.ray.time;
     RTCRayN_id(r, W, i) = unsigned(first + i);
     rtcCopyHitToHitN(RTCRayHitN_HitN(n, W), &one.hit, W, i);
   }
@@ -169,6 +170,19 @@ TEST(CrossvalPackets, EmptySegmentsAreAnsweredLikeEmbree) {
   }
   runIntersectPacketWidths(f, ", empty segments");
   runOccludedPacketWidths(f, ", empty segments");
+}
+
+// Motion blur: each lane is traced at its own time.
+TEST(CrossvalPackets, MotionBlurLanesTraceAtTheirOwnTime) {
+  SceneData scene;
+  scene.name = "moving packets";
+  scene.meshes.push_back(moving(randomTriangleSoup(5000, 26), 3, 27));
+  scene.meshes.push_back(moving(quadGrid(20, 0.3f, 28), 2, 29));
+  scene.meshes.push_back(randomTriangleSoup(2000, 30));
+  Fixture f(scene);
+  assignRandomTimes(f.rays, 31);
+  runIntersectPacketWidths(f, ", motion blur");
+  runOccludedPacketWidths(f, ", motion blur");
 }
 
 std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {

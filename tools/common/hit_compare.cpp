@@ -16,8 +16,12 @@ D3 crossD(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.
 double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 double lengthD(D3 a) { return std::sqrt(dotD(a, a)); }
 
-D3 vertex(const MeshData& mesh, uint64_t index) {
-  return {mesh.vertices[3 * index], mesh.vertices[3 * index + 1], mesh.vertices[3 * index + 2]};
+// A vertex where it is at `time` (motion blur); false when the mesh is not there at that time.
+bool vertex(const MeshData& mesh, uint64_t index, float time, D3& out) {
+  float v[3];
+  if (!mesh.vertexAt(index, time, v)) return false;
+  out = {v[0], v[1], v[2]};
+  return true;
 }
 
 // One triangle of a primitive with the map from its barycentric (u, v) to the primitive's
@@ -39,14 +43,21 @@ void addQuadTriangles(const D3 q[4], std::vector<PrimitiveTriangle>& out, Primit
   out.push_back(second);
 }
 
-// The triangles a primitive consists of: one (triangle), two (quad) or two per cell (grid, whose
-// (u, v) spans the whole grid).
-std::vector<PrimitiveTriangle> primitiveTriangles(const MeshData& mesh, unsigned primID) {
+// The triangles a primitive consists of at a ray's time: one (triangle), two (quad) or two per
+// cell (grid, whose (u, v) spans the whole grid); none when a moving mesh is not there then.
+std::vector<PrimitiveTriangle> primitiveTriangles(const MeshData& mesh, unsigned primID, float time) {
   std::vector<PrimitiveTriangle> out;
+  D3 probe;
+  if (!vertex(mesh, 0, time, probe)) return out;
+  const auto vertexAt = [&](uint64_t index) {
+    D3 v;
+    vertex(mesh, index, time, v);
+    return v;
+  };
   if (mesh.grid) {
     const RTCGrid& g = mesh.grids.at(primID);
     if (g.width < 2 || g.height < 2) return out;
-    const auto at = [&](uint32_t x, uint32_t y) { return vertex(mesh, uint64_t(g.startVertexID) + uint64_t(y) * g.stride + x); };
+    const auto at = [&](uint32_t x, uint32_t y) { return vertexAt(uint64_t(g.startVertexID) + uint64_t(y) * g.stride + x); };
     for (uint32_t y = 0; y + 1 < g.height; ++y)
       for (uint32_t x = 0; x + 1 < g.width; ++x) {
         const D3 q[4] = {at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)};
@@ -60,11 +71,11 @@ std::vector<PrimitiveTriangle> primitiveTriangles(const MeshData& mesh, unsigned
   const int corners = mesh.quads ? 4 : 3;
   const uint32_t* idx = &mesh.indices.at(size_t(primID) * corners);
   if (mesh.quads) {
-    const D3 q[4] = {vertex(mesh, idx[0]), vertex(mesh, idx[1]), vertex(mesh, idx[2]), vertex(mesh, idx[3])};
+    const D3 q[4] = {vertexAt(idx[0]), vertexAt(idx[1]), vertexAt(idx[2]), vertexAt(idx[3])};
     addQuadTriangles(q, out);
   } else {
     PrimitiveTriangle t;
-    t.v[0] = vertex(mesh, idx[0]), t.v[1] = vertex(mesh, idx[1]), t.v[2] = vertex(mesh, idx[2]);
+    t.v[0] = vertexAt(idx[0]), t.v[1] = vertexAt(idx[1]), t.v[2] = vertexAt(idx[2]);
     out.push_back(t);
   }
   return out;
@@ -122,7 +133,7 @@ double lineSegmentDistance(D3 org, D3 dir, D3 a, D3 b) {
 
 double coordinateMagnitude(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
   double m = std::max({std::fabs(ray.org_x), std::fabs(ray.org_y), std::fabs(ray.org_z)});
-  for (const PrimitiveTriangle& tri : primitiveTriangles(scene.meshes.at(geomID), primID))
+  for (const PrimitiveTriangle& tri : primitiveTriangles(scene.meshes.at(geomID), primID, ray.time))
     for (const D3& v : tri.v) m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
   return m;
 }
@@ -201,7 +212,7 @@ double edgeToleranceFor(const SceneData& scene, const RTCRay& ray, unsigned geom
 std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID) {
   const D3 org{ray.org_x, ray.org_y, ray.org_z}, dir{ray.dir_x, ray.dir_y, ray.dir_z};
   std::vector<ExactPart> parts;
-  for (const PrimitiveTriangle& piece : primitiveTriangles(scene.meshes.at(geomID), primID)) {
+  for (const PrimitiveTriangle& piece : primitiveTriangles(scene.meshes.at(geomID), primID, ray.time)) {
     const D3* tri = piece.v;
     ExactPart part;
     part.lineToEdges = std::min({lineSegmentDistance(org, dir, tri[0], tri[1]), lineSegmentDistance(org, dir, tri[1], tri[2]),

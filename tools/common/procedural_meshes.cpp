@@ -198,4 +198,15 @@ MeshData gridCellsAsQuads(const MeshData& gridMesh) {
   return mesh;
 }
 
+MeshData moving(MeshData mesh, int steps, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> wander(-0.04f, 0.04f);
+  std::vector<float> previous = mesh.vertices;
+  for (int step = 1; step < steps; ++step) {
+    for (size_t i = 0; i < previous.size(); ++i) previous[i] += wander(rng) + (i % 3 == 0 ? 0.15f : 0.f);
+    mesh.laterSteps.push_back(previous);
+  }
+  return mesh;
+}
+
 }  // namespace obvh::tools

@@ -40,4 +40,8 @@ MeshData gridPatches(int n, float jitter, uint32_t seed);
 // The cells of a grid mesh as a quad mesh over the same vertices (cell by cell, grid by grid).
 MeshData gridCellsAsQuads(const MeshData& gridMesh);
 
+// The mesh set in motion (motion blur) with steps - 1 later time steps: it slides along x while
+// each vertex wanders on its own, so its primitives change shape between steps.
+MeshData moving(MeshData mesh, int steps, uint32_t seed);
+
 }  // namespace obvh::tools

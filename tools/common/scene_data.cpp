@@ -1,9 +1,28 @@
 #include "scene_data.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 namespace obvh::tools {
+
+bool MeshData::vertexAt(uint64_t index, float time, float out[3]) const {
+  if (laterSteps.empty()) {
+    for (int k = 0; k < 3; ++k) out[k] = vertices[3 * index + k];
+    return true;
+  }
+  const float local = timeEnd > timeStart ? (time - timeStart) / (timeEnd - timeStart) : (time == timeStart ? 0.f : -1.f);
+  if (!(local >= 0.f && local <= 1.f)) return false;
+  const int segments = int(laterSteps.size());
+  const float ftime = local * float(segments);
+  const int segment = std::clamp(int(std::floor(ftime)), 0, segments - 1);
+  const float f = ftime - float(segment);
+  const std::vector<float>& a = segment == 0 ? vertices : laterSteps[segment - 1];
+  const std::vector<float>& b = laterSteps[segment];
+  for (int k = 0; k < 3; ++k) out[k] = a[3 * index + k] * (1.f - f) + b[3 * index + k] * f;
+  return true;
+}
 
 size_t SceneData::primitiveCount() const {
   size_t n = 0;
@@ -23,6 +42,16 @@ CommittedScene::CommittedScene(const RtcLibrary& lib, RTCDevice device, const Sc
         mesh.grid ? RTC_GEOMETRY_TYPE_GRID : mesh.quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE;
     RTCGeometry g = lib.rtcNewGeometry(device, type);
     if (!g) throw std::runtime_error(lib.label + ": rtcNewGeometry failed");
+    if (!mesh.laterSteps.empty()) {
+      lib.rtcSetGeometryTimeStepCount(g, mesh.timeStepCount());
+      if (mesh.timeStart != 0.f || mesh.timeEnd != 1.f) lib.rtcSetGeometryTimeRange(g, mesh.timeStart, mesh.timeEnd);
+      for (unsigned step = 1; step < mesh.timeStepCount(); ++step) {
+        auto* later = static_cast<float*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
+                                                                      3 * sizeof(float), mesh.vertexCount()));
+        if (!later) throw std::runtime_error(lib.label + ": rtcSetNewGeometryBuffer failed");
+        std::memcpy(later, mesh.laterSteps[step - 1].data(), mesh.vertices.size() * sizeof(float));
+      }
+    }
     // Library-owned buffers: both libraries get their own copy, so neither sees the other's data.
     auto* v = static_cast<float*>(lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                               3 * sizeof(float), mesh.vertexCount()));

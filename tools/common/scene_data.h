@@ -17,10 +17,17 @@ struct MeshData {
   bool quads = false;
   bool grid = false;               // a grid mesh: its primitives are grids, indices is unused
   std::vector<RTCGrid> grids;
+  // Motion blur: the vertices of time steps 1, 2, ... (step 0 is vertices), over [timeStart, timeEnd].
+  std::vector<std::vector<float>> laterSteps;
+  float timeStart = 0.f, timeEnd = 1.f;
   unsigned mask = 0xFFFFFFFFu;
   bool enabled = true;
 
   size_t vertexCount() const { return vertices.size() / 3; }
+  unsigned timeStepCount() const { return unsigned(1 + laterSteps.size()); }
+  // Vertex index at a ray's time, blended as Embree and obvh blend time steps (in float); false
+  // when the time lies outside the mesh's time range.
+  bool vertexAt(uint64_t index, float time, float out[3]) const;
   size_t primitiveCount() const { return grid ? grids.size() : indices.size() / (quads ? 4 : 3); }
 };
 
