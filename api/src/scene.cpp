@@ -137,13 +137,19 @@ UserGeometryDesc userGeometryOf(const Geometry& g, uint32_t geomID) {
   if (!user.bounds) return desc;
   desc.primitiveBounds.resize(user.primitiveCount);
   for (unsigned prim = 0; prim < user.primitiveCount; ++prim) {
-    RTCBounds b{};
-    RTCBoundsFunctionArguments args{g.userData(), prim, 0, &b};
-    user.bounds(&args);
+    // A moving primitive's bounds over every time step (the callback's timeStep argument).
     Box3f& box = desc.primitiveBounds[prim];
-    box.extend({b.lower_x, b.lower_y, b.lower_z});
-    box.extend({b.upper_x, b.upper_y, b.upper_z});
-    if (!(b.lower_x <= b.upper_x && b.lower_y <= b.upper_y && b.lower_z <= b.upper_z)) box = Box3f{};
+    for (unsigned step = 0; step < g.timeStepCount(); ++step) {
+      RTCBounds b{};
+      RTCBoundsFunctionArguments args{g.userData(), prim, step, &b};
+      user.bounds(&args);
+      if (!(b.lower_x <= b.upper_x && b.lower_y <= b.upper_y && b.lower_z <= b.upper_z)) {
+        box = Box3f{};
+        break;
+      }
+      box.extend({b.lower_x, b.lower_y, b.lower_z});
+      box.extend({b.upper_x, b.upper_y, b.upper_z});
+    }
   }
   return desc;
 }

@@ -99,8 +99,8 @@ TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
     EXPECT_EQ(rtcNewGeometry(d.device, type), nullptr);
     EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
   }
-  // Motion blur of user geometry (meshes and instances move).
-  RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_USER);
+  // Motion blur of sphere points (meshes, instances and user geometry move).
+  RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
   rtcSetGeometryTimeStepCount(g, 3);
   EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);
   RTCScene scene = rtcNewScene(d.device);

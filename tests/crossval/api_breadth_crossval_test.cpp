@@ -316,16 +316,19 @@ TEST(CrossvalInstances, MovingInstancesMatchEmbree) {
 
 struct Sphere {
   float x, y, z, r;
+  float vx = 0.f;  // moves along x by vx over the shutter (two time steps when not 0)
 };
 
 void sphereBounds(const RTCBoundsFunctionArguments* args) {
   const Sphere& s = static_cast<const Sphere*>(args->geometryUserPtr)[args->primID];
-  *args->bounds_o = RTCBounds{s.x - s.r, s.y - s.r, s.z - s.r, 0.f, s.x + s.r, s.y + s.r, s.z + s.r, 0.f};
+  const float x = s.x + s.vx * float(args->timeStep);
+  *args->bounds_o = RTCBounds{x - s.r, s.y - s.r, s.z - s.r, 0.f, x + s.r, s.y + s.r, s.z + s.r, 0.f};
 }
 
-// Nearest root of |o + t d - c|^2 = r^2 inside the segment, computed in double precision.
+// Nearest root of |o + t d - c|^2 = r^2 inside the segment, computed in double precision, with the
+// sphere where it is at the ray's time.
 bool sphereHit(const Sphere& s, const RTCRay& ray, float& tOut) {
-  const double ox = ray.org_x - s.x, oy = ray.org_y - s.y, oz = ray.org_z - s.z;
+  const double ox = ray.org_x - (s.x + s.vx * ray.time), oy = ray.org_y - s.y, oz = ray.org_z - s.z;
   const double a = double(ray.dir_x) * ray.dir_x + double(ray.dir_y) * ray.dir_y + double(ray.dir_z) * ray.dir_z;
   const double b = 2 * (ox * ray.dir_x + oy * ray.dir_y + oz * ray.dir_z);
   const double c = ox * ox + oy * oy + oz * oz - double(s.r) * s.r;
@@ -346,7 +349,7 @@ void sphereIntersect(const RTCIntersectFunctionNArguments* args) {
   float t;
   if (args->valid[0] != -1 || !sphereHit(s, rh->ray, t)) return;
   rh->ray.tfar = t;
-  rh->hit.Ng_x = rh->ray.org_x + t * rh->ray.dir_x - s.x;
+  rh->hit.Ng_x = rh->ray.org_x + t * rh->ray.dir_x - (s.x + s.vx * rh->ray.time);
   rh->hit.Ng_y = rh->ray.org_y + t * rh->ray.dir_y - s.y;
   rh->hit.Ng_z = rh->ray.org_z + t * rh->ray.dir_z - s.z;
   rh->hit.u = rh->hit.v = 0.f;
@@ -362,7 +365,8 @@ void sphereOccluded(const RTCOccludedFunctionNArguments* args) {
   if (args->valid[0] == -1 && sphereHit(s, *ray, t)) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
-TEST(CrossvalUserGeometry, SpheresMatchEmbree) {
+// Spheres as user geometry (moving ones: two time steps, rays at random times).
+void expectUserSpheresMatchEmbree(bool moving) {
   // Embree may call user callbacks with packets of N > 1 (for its own packet kernels); the
   // single-ray API used here calls them with N = 1 in both libraries.
   const LoadedLibraries& libs = libraries();
@@ -371,13 +375,15 @@ TEST(CrossvalUserGeometry, SpheresMatchEmbree) {
   static std::vector<Sphere> spheres;
   spheres.clear();
   for (int k = 0; k < 400; ++k)  // on a grid so spheres never overlap: every hit is unambiguous
-    spheres.push_back({float(k % 20) + 0.5f, float(k / 20) + 0.5f, 2.f * unit(rng), 0.1f + 0.35f * unit(rng)});
+    spheres.push_back({float(k % 20) + 0.5f, float(k / 20) + 0.5f, 2.f * unit(rng), 0.1f + 0.35f * unit(rng),
+                       moving ? 3.f : 0.f});
   RTCScene scenes[2];
   const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
   RTCDevice devices[2] = {libs.embreeDevice, libs.obvhDevice};
   for (int k = 0; k < 2; ++k) {
     scenes[k] = lib[k]->rtcNewScene(devices[k]);
     RTCGeometry g = lib[k]->rtcNewGeometry(devices[k], RTC_GEOMETRY_TYPE_USER);
+    if (moving) lib[k]->rtcSetGeometryTimeStepCount(g, 2);
     lib[k]->rtcSetGeometryUserPrimitiveCount(g, unsigned(spheres.size()));
     lib[k]->rtcSetGeometryUserData(g, spheres.data());
     lib[k]->rtcSetGeometryBoundsFunction(g, sphereBounds, nullptr);
@@ -391,7 +397,8 @@ TEST(CrossvalUserGeometry, SpheresMatchEmbree) {
   }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  const std::vector<RTCRay> rays = raysAround(-2.f, 22.f, kRays, 32);
+  std::vector<RTCRay> rays = raysAround(-2.f, 22.f, kRays, 32);
+  if (moving) assignRandomTimes(rays, 33);
   const std::vector<RTCRayHit> a = traceAll(*libs.embree, scenes[0], rays, &context);
   const std::vector<RTCRayHit> b = traceAll(*libs.obvh, scenes[1], rays, &context);
   size_t hits = 0, differ = 0, occlusionDiffers = 0;
@@ -406,14 +413,19 @@ TEST(CrossvalUserGeometry, SpheresMatchEmbree) {
     libs.obvh->rtcOccluded1(scenes[1], &context, &rb);
     occlusionDiffers += (ra.tfar != rb.tfar);
   }
-  std::printf("[crossval] %-34s %zu rays, %zu hits, %zu differ, %zu occlusion answers differ\n", "user spheres",
-              rays.size(), hits, differ, occlusionDiffers);
+  std::printf("[crossval] %-34s %zu rays, %zu hits, %zu differ, %zu occlusion answers differ\n",
+              moving ? "moving user spheres" : "user spheres", rays.size(), hits, differ, occlusionDiffers);
   EXPECT_GT(hits, kRays / 20);
   EXPECT_EQ(differ, 0u);
   EXPECT_EQ(occlusionDiffers, 0u);
   libs.embree->rtcReleaseScene(scenes[0]);
   libs.obvh->rtcReleaseScene(scenes[1]);
 }
+
+TEST(CrossvalUserGeometry, SpheresMatchEmbree) { expectUserSpheresMatchEmbree(false); }
+
+// Motion blur: the bounds callback is asked for every time step (Embree's timeStep argument).
+TEST(CrossvalUserGeometry, MovingSpheresMatchEmbree) { expectUserSpheresMatchEmbree(true); }
 
 // --- Filters ----------------------------------------------------------------------------------------
 
