@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 #include "builders/binned_sah_builder.h"
 #include "builders/distance_sah_builder.h"
@@ -614,8 +615,9 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
                             float radiusScale) const {
   bool changed = false;
   auto radius = [&] { return callbacks.radius() * radiusScale; };
-  // Quads are stored as two triangles and grids as many; the callback must see each quad or grid once.
-  std::vector<uint64_t> visitedQuads;
+  // Quads are stored as two triangles and grids as many; the callback must see each quad or grid once
+  // (a set: a query with a large radius meets every quad of the scene).
+  std::unordered_set<uint64_t> visitedQuads;
   const auto visitTriangle = [&](const StoredTriangle& tri, const std::vector<GridCell>& cells) {
     Box3f b;
     b.extend(tri.v0);
@@ -624,11 +626,7 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
     const float r = radius();
     if (!(distanceSquaredToBox(p, b) <= r * r)) return;
     const uint32_t primID = isGridCell(tri.kind) ? cells[tri.primID].gridPrimID : tri.primID;
-    if (tri.kind != TriangleKind::Triangle) {
-      const uint64_t key = (uint64_t(tri.geomID) << 32) | primID;
-      if (std::find(visitedQuads.begin(), visitedQuads.end(), key) != visitedQuads.end()) return;
-      visitedQuads.push_back(key);
-    }
+    if (tri.kind != TriangleKind::Triangle && !visitedQuads.insert((uint64_t(tri.geomID) << 32) | primID).second) return;
     changed |= callbacks.visit(owner_, tri.geomID, primID, instance);
   };
   traverseSphere(triangleBvh_, p, radius, [&](const Bvh2Node& leaf) {
