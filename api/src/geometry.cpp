@@ -208,9 +208,8 @@ void Geometry::setTimeStepCount(unsigned count) {
   if (count > RTC_MAX_TIME_STEP_COUNT) fail(RTC_ERROR_INVALID_ARGUMENT, "number of time steps is out of range");
   if (count == 0) return;  // Embree accepts 0 without an error; obvh keeps the steps it has
   const bool instance = type_ == RTC_GEOMETRY_TYPE_INSTANCE;
-  if (count > 1 && !isMesh() && !instance && type_ != RTC_GEOMETRY_TYPE_USER)
-    fail(RTC_ERROR_INVALID_OPERATION,
-         "motion blur is supported by obvh for triangle, quad and grid meshes, instances and user geometry only");
+  if (count > 1 && !isMesh() && !isShape() && !instance && type_ != RTC_GEOMETRY_TYPE_USER)
+    fail(RTC_ERROR_INVALID_OPERATION, "motion blur is not supported by obvh for this geometry type");
   timeSteps_ = count;
   if (instance) {
     transforms_.resize(count);

@@ -113,14 +113,24 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   desc.kind = g.type() == RTC_GEOMETRY_TYPE_SPHERE_POINT ? ShapeKind::Sphere : ShapeKind::FlatLinearCurve;
   desc.geomID = geomID;
   desc.mask = g.mask();
-  const BufferView& vertex = g.vertexBuffer();
-  if (!vertex.data()) return desc;
-  desc.vertices.resize(vertex.itemCount);
-  for (size_t i = 0; i < vertex.itemCount; ++i) {
-    float v[4];
-    std::memcpy(v, vertex.data() + i * vertex.byteStride, sizeof v);
-    desc.vertices[i] = {{v[0], v[1], v[2]}, v[3]};
+  const auto copyStep = [&](unsigned step, std::vector<ShapeVertex>& out) {
+    const BufferView& vertex = g.vertexBuffer(step);
+    out.resize(vertex.itemCount);
+    for (size_t i = 0; i < vertex.itemCount; ++i) {
+      float v[4];
+      std::memcpy(v, vertex.data() + i * vertex.byteStride, sizeof v);
+      out[i] = {{v[0], v[1], v[2]}, v[3]};
+    }
+  };
+  // Every time step's vertices, all bound and of one count (else nothing of this geometry is built).
+  for (unsigned step = 0; step < g.timeStepCount(); ++step) {
+    const BufferView& v = g.vertexBuffer(step);
+    if (!v.data() || v.itemCount != g.vertexBuffer().itemCount) return desc;
   }
+  copyStep(0, desc.vertices);
+  desc.laterSteps.resize(g.timeStepCount() - 1);
+  for (unsigned step = 1; step < g.timeStepCount(); ++step) copyStep(step, desc.laterSteps[step - 1]);
+  desc.timeStart = g.timeStart(), desc.timeEnd = g.timeEnd();
   const BufferView& index = g.indexBuffer();
   if (desc.kind == ShapeKind::FlatLinearCurve && index.data()) {
     desc.segments.resize(index.itemCount);

@@ -187,19 +187,32 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
     objects.push_back({ObjectKind::MotionTriangle, uint32_t(i), motion_.triangles[i].primID, bounds});
   }
   shapes_.clear();
+  shapeSteps_.clear();
   for (const ShapeGeometryDesc& geometry : desc.shapes) {
     const bool curve = geometry.kind == ShapeKind::FlatLinearCurve;
     const size_t count = curve ? geometry.segments.size() : geometry.vertices.size();
+    const size_t steps = 1 + geometry.laterSteps.size();
+    const auto stepVertices = [&](size_t step) -> const std::vector<ShapeVertex>& {
+      return step == 0 ? geometry.vertices : geometry.laterSteps[step - 1];
+    };
     for (size_t prim = 0; prim < count; ++prim) {
       ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), {}, {}};
-      if (curve) {
-        const size_t first = geometry.segments[prim];
-        if (first + 1 >= geometry.vertices.size()) continue;
-        shape.a = geometry.vertices[first], shape.b = geometry.vertices[first + 1];
-      } else {
-        shape.a = shape.b = geometry.vertices[prim];
+      const size_t first = curve ? geometry.segments[prim] : prim;
+      if (curve && first + 1 >= geometry.vertices.size()) continue;
+      const size_t second = curve ? first + 1 : first;
+      Box3f bounds;
+      for (size_t step = 0; step < steps; ++step) {
+        const ShapeVertex& a = stepVertices(step)[first];
+        const ShapeVertex& b = stepVertices(step)[second];
+        bounds.extend(curve ? segmentBounds(a, b) : sphereBounds(a));
+        if (steps > 1) shapeSteps_.insert(shapeSteps_.end(), {a, b});
       }
-      const Box3f bounds = curve ? segmentBounds(shape.a, shape.b) : sphereBounds(shape.a);
+      shape.a = geometry.vertices[first], shape.b = geometry.vertices[second];
+      if (steps > 1) {
+        shape.firstStep = uint32_t(shapeSteps_.size() - 2 * steps);
+        shape.stepCount = uint32_t(steps);
+        shape.timeStart = geometry.timeStart, shape.timeEnd = geometry.timeEnd;
+      }
       if (!isUsableBox(bounds)) continue;
       objectRefs.push_back({bounds, uint32_t(objects.size())});
       objects.push_back({ObjectKind::Shape, uint32_t(shapes_.size()), uint32_t(prim), bounds});
@@ -409,11 +422,32 @@ Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {
   return local;
 }
 
+bool SceneAccel::shapeAt(const ShapePrimitive& shape, float time, ShapeVertex& a, ShapeVertex& b) const {
+  if (shape.stepCount < 2) {
+    a = shape.a, b = shape.b;
+    return true;
+  }
+  MotionTriangle timing;  // the same time segments as moving triangles
+  timing.stepCount = shape.stepCount, timing.timeStart = shape.timeStart, timing.timeEnd = shape.timeEnd;
+  const float local = timing.localTime(time);
+  if (!(local >= 0.f && local <= 1.f)) return false;
+  const float ftime = local * float(shape.stepCount - 1);
+  const int segment = std::clamp(int(std::floor(ftime)), 0, int(shape.stepCount) - 2);
+  const float f = ftime - float(segment), g = 1.f - f;
+  const ShapeVertex* from = &shapeSteps_[shape.firstStep + 2 * size_t(segment)];
+  const ShapeVertex* to = from + 2;
+  a = {from[0].p * g + to[0].p * f, from[0].r * g + to[0].r * f};
+  b = {from[1].p * g + to[1].p * f, from[1].r * g + to[1].r * f};
+  return true;
+}
+
 bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state,
                                 bool occlusion) const {
   if ((geometryMasks_[shape.geomID] & ray.mask) == 0) return false;
+  ShapeVertex a, b;
+  if (!shapeAt(shape, ray.time, a, b)) return false;
   ShapeHit sh;
-  const bool found = shape.kind == ShapeKind::Sphere ? intersectSphere(ray, shape.a, sh) : intersectFlatSegment(ray, shape.a, shape.b, sh);
+  const bool found = shape.kind == ShapeKind::Sphere ? intersectSphere(ray, a, sh) : intersectFlatSegment(ray, a, b, sh);
   if (!found) return false;
   Hit candidate;
   candidate.Ng = sh.Ng;
@@ -641,11 +675,7 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
         changed |= callbacks.visit(owner_, object.index, object.primID, instance);
         continue;
       }
-      if (object.kind == ObjectKind::Shape) {
-        const ShapePrimitive& shape = shapes_[object.index];
-        changed |= callbacks.visit(owner_, shape.geomID, shape.primID, instance);
-        continue;
-      }
+      if (object.kind == ObjectKind::Shape) continue;  // Embree's point queries skip points and curves
       if (object.kind == ObjectKind::MotionTriangle) {  // where it is at the query's time
         const MotionTriangle& motion = motion_.triangles[object.index];
         const float localTime = motion.localTime(callbacks.time());

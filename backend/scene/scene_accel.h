@@ -115,12 +115,17 @@ class SceneAccel {
   static const Instance* placedAt(const Instance& instance, float time, Instance& storage);
   static Instance makeInstance(const SceneAccel* child, const Affine3f& localToWorld, uint32_t geomID);
 
-  // A sphere, or a flat curve segment (its two vertices).
+  // A sphere, or a flat curve segment (its two vertices). A moving one keeps its vertices at every
+  // time step in shapeSteps_ (a and b of step s at firstStep + 2 s) and a, b are blended per ray.
   struct ShapePrimitive {
     ShapeKind kind;
     uint32_t geomID, primID;
     ShapeVertex a, b;
+    uint32_t firstStep = 0, stepCount = 1;
+    float timeStart = 0.f, timeEnd = 1.f;
   };
+  // The primitive where it is at `time`; false when it is not there then.
+  bool shapeAt(const ShapePrimitive& shape, float time, ShapeVertex& a, ShapeVertex& b) const;
 
   // watertight: the ray's frame for moving triangles, made once per ray (it depends on org and dir).
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state,
@@ -159,6 +164,7 @@ class SceneAccel {
   std::vector<ObjectRef> objects_;
   std::vector<Instance> instances_;
   std::vector<ShapePrimitive> shapes_;
+  std::vector<ShapeVertex> shapeSteps_;
   // Triangles of motion-blurred meshes, and the set (filters, masks, their grid cells) they test with.
   CollectedMotion motion_;
   TriangleSet motionSet_;

@@ -36,6 +36,9 @@ struct ShapeGeometryDesc {
   uint32_t mask = 0xFFFFFFFFu;
   std::vector<ShapeVertex> vertices;
   std::vector<uint32_t> segments;  // curves: each segment's first vertex (the second follows it)
+  // Motion blur: the vertices of time steps 1, 2, ... (vertices is step 0), over [timeStart, timeEnd].
+  std::vector<std::vector<ShapeVertex>> laterSteps;
+  float timeStart = 0.f, timeEnd = 1.f;
 };
 
 struct SceneDesc {

@@ -43,17 +43,46 @@ ShapeScene makeScene(uint32_t seed) {
   return scene;
 }
 
-RTCScene commit(const RtcLibrary& lib, RTCDevice device, const ShapeScene& data) {
+// The scene moved on (motion blur's second time step): everything slides along x by less than the
+// spacing of the grids and radii grow, so no two primitives overlap at any time.
+ShapeScene movedOn(ShapeScene scene) {
+  for (std::vector<Point4>* points : {&scene.spheres, &scene.curveVertices})
+    for (Point4& p : *points) p.x += 0.4f, p.z -= 0.3f, p.r *= 1.15f;
+  return scene;
+}
+
+// The scene at a ray's time between its two steps, blended as both libraries blend time steps.
+ShapeScene sceneAt(const ShapeScene& first, const ShapeScene* later, float time) {
+  if (!later) return first;
+  ShapeScene at = first;
+  const auto blend = [&](const std::vector<Point4>& a, const std::vector<Point4>& b, std::vector<Point4>& out) {
+    for (size_t k = 0; k < a.size(); ++k)
+      out[k] = {a[k].x * (1.f - time) + b[k].x * time, a[k].y * (1.f - time) + b[k].y * time,
+                a[k].z * (1.f - time) + b[k].z * time, a[k].r * (1.f - time) + b[k].r * time};
+  };
+  blend(first.spheres, later->spheres, at.spheres);
+  blend(first.curveVertices, later->curveVertices, at.curveVertices);
+  return at;
+}
+
+// later: the vertices of a second time step (motion blur), or null.
+RTCScene commit(const RtcLibrary& lib, RTCDevice device, const ShapeScene& data, const ShapeScene* later = nullptr) {
   RTCScene scene = lib.rtcNewScene(device);
+  const auto setVertices = [&](RTCGeometry g, const std::vector<Point4>& first, const std::vector<Point4>* second) {
+    if (second) lib.rtcSetGeometryTimeStepCount(g, 2);
+    for (unsigned step = 0; step < (second ? 2u : 1u); ++step) {
+      const std::vector<Point4>& points = step == 0 ? first : *second;
+      void* v = lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT4, 16, points.size());
+      std::memcpy(v, points.data(), points.size() * sizeof(Point4));
+    }
+  };
   RTCGeometry spheres = lib.rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-  void* sv = lib.rtcSetNewGeometryBuffer(spheres, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 16, data.spheres.size());
-  std::memcpy(sv, data.spheres.data(), data.spheres.size() * sizeof(Point4));
+  setVertices(spheres, data.spheres, later ? &later->spheres : nullptr);
   lib.rtcCommitGeometry(spheres);
   lib.rtcAttachGeometry(scene, spheres);
   lib.rtcReleaseGeometry(spheres);
   RTCGeometry curves = lib.rtcNewGeometry(device, RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE);
-  void* cv = lib.rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 16, data.curveVertices.size());
-  std::memcpy(cv, data.curveVertices.data(), data.curveVertices.size() * sizeof(Point4));
+  setVertices(curves, data.curveVertices, later ? &later->curveVertices : nullptr);
   void* ci = lib.rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, 4, data.segments.size());
   std::memcpy(ci, data.segments.data(), data.segments.size() * sizeof(uint32_t));
   lib.rtcCommitGeometry(curves);
@@ -90,12 +119,13 @@ double silhouetteMargin(const RTCRay& ray, const Point4& a, const Point4* b) {
   return best;
 }
 
-TEST(CrossvalShapes, SpheresAndFlatLinearCurvesMatchEmbree) {
+// later: the shapes' second time step (motion blur, rays at random times), or null.
+void expectShapesMatchEmbree(const ShapeScene& start, const ShapeScene* later) {
   const LoadedLibraries& libs = libraries();
-  const ShapeScene data = makeScene(7);
-  RTCScene reference = commit(*libs.embree, libs.embreeDevice, data);
-  RTCScene candidate = commit(*libs.obvh, libs.obvhDevice, data);
+  RTCScene reference = commit(*libs.embree, libs.embreeDevice, start, later);
+  RTCScene candidate = commit(*libs.obvh, libs.obvhDevice, start, later);
   ASSERT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
+  const ShapeScene& data = start;
 
   std::vector<RTCRay> rays = tools::randomRays(tools::SceneBox{{-1.f, -1.f, -1.f}, {41.f, 25.f, 3.f}}, 100000, 11);
   // Plus rays aimed near every primitive, from random directions.
@@ -121,11 +151,13 @@ TEST(CrossvalShapes, SpheresAndFlatLinearCurvesMatchEmbree) {
     aimAt(0.5f * (a.x + b.x), 0.5f * (a.y + b.y), 0.5f * (a.z + b.z), 0.05f, 0.1f + 0.2f * float(first % 3));
   }
 
+  if (later) assignRandomTimes(rays, 13);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   size_t hits[2] = {0, 0}, grazing = 0, joints = 0, mismatched = 0, occlusionMismatched = 0;
   std::string firstMismatch;
   for (const RTCRay& ray : rays) {
+    const ShapeScene placed = sceneAt(start, later, ray.time);  // where the shapes are for this ray
     RTCRayHit rh[2];
     RTCRay occluded[2];
     for (int k = 0; k < 2; ++k) {
@@ -141,9 +173,9 @@ TEST(CrossvalShapes, SpheresAndFlatLinearCurvesMatchEmbree) {
     // Grazing: one of the answered primitives has the ray within 1e-4 of its silhouette.
     const auto grazes = [&](const RTCHit& h) {
       if (h.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-      if (h.geomID == 0) return std::fabs(silhouetteMargin(ray, data.spheres[h.primID], nullptr)) < 1e-4;
+      if (h.geomID == 0) return std::fabs(silhouetteMargin(ray, placed.spheres[h.primID], nullptr)) < 1e-4;
       const uint32_t first = data.segments[h.primID];
-      return std::fabs(silhouetteMargin(ray, data.curveVertices[first], &data.curveVertices[first + 1])) < 1e-3;
+      return std::fabs(silhouetteMargin(ray, placed.curveVertices[first], &placed.curveVertices[first + 1])) < 1e-3;
     };
     // A ray through the joint of two consecutive segments hits both at the same depth (u = 1 on
     // the first, u = 0 on the second): either is right, and the traversal order picks one.
@@ -181,15 +213,47 @@ TEST(CrossvalShapes, SpheresAndFlatLinearCurvesMatchEmbree) {
       if (firstMismatch.empty()) firstMismatch = tools::describeRay(ray) + " (values differ)";
     }
   }
-  std::printf("[crossval] shapes: %zu rays, Embree %zu hits, obvh %zu hits, %zu grazing silhouettes, %zu joint ties, "
+  std::printf("[crossval] %s: %zu rays, Embree %zu hits, obvh %zu hits, %zu grazing silhouettes, %zu joint ties, "
               "%zu mismatches, "
               "%zu occlusion mismatches\n",
-              rays.size(), hits[0], hits[1], grazing, joints, mismatched, occlusionMismatched);
+              later ? "moving shapes" : "shapes", rays.size(), hits[0], hits[1], grazing, joints, mismatched,
+              occlusionMismatched);
   EXPECT_GT(hits[0], rays.size() / 10);
   EXPECT_EQ(mismatched, 0u) << firstMismatch;
   EXPECT_EQ(occlusionMismatched, 0u) << firstMismatch;
   libs.embree->rtcReleaseScene(reference);
   libs.obvh->rtcReleaseScene(candidate);
+}
+
+TEST(CrossvalShapes, SpheresAndFlatLinearCurvesMatchEmbree) { expectShapesMatchEmbree(makeScene(7), nullptr); }
+
+// Motion blur: two time steps, rays at random times.
+TEST(CrossvalShapes, MovingSpheresAndCurvesMatchEmbree) {
+  const ShapeScene start = makeScene(7), later = movedOn(start);
+  expectShapesMatchEmbree(start, &later);
+}
+
+// Embree's point queries call back for none of them, whatever the radius.
+TEST(CrossvalShapes, PointQueriesSkipThemAsEmbreeDoes) {
+  const LoadedLibraries& libs = libraries();
+  const ShapeScene data = makeScene(8);
+  const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
+  RTCDevice devices[2] = {libs.embreeDevice, libs.obvhDevice};
+  unsigned calls[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    RTCScene scene = commit(*lib[k], devices[k], data);
+    RTCPointQuery query{10.f, 10.f, 1.f, 0.f, INFINITY};
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    lib[k]->rtcPointQuery(scene, &query, &context, [](RTCPointQueryFunctionArguments* args) {
+      ++*static_cast<unsigned*>(args->userPtr);
+      return false;
+    }, &calls[k]);
+    EXPECT_EQ(lib[k]->rtcGetDeviceError(devices[k]), RTC_ERROR_NONE);
+    lib[k]->rtcReleaseScene(scene);
+  }
+  EXPECT_EQ(calls[0], 0u);
+  EXPECT_EQ(calls[1], calls[0]);
 }
 
 // Embree's buffer rules for the two types: float4 vertices, uint segment indices, no index
