@@ -1,5 +1,6 @@
-// A committed scene: a BVH over its triangles and quads, and a second BVH over its "objects"
-// (instances of other scenes and user-geometry primitives), queried one after the other.
+// A committed scene: a BVH over its still triangles (of triangle, quad and grid meshes), and a
+// second BVH over its "objects" (instances of other scenes, user-geometry primitives, points and
+// curve segments, triangles of moving meshes: scene_objects.cpp), queried one after the other.
 #pragma once
 
 #include <utility>
