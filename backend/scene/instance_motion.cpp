@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/time_segment.h"
+
 namespace obvh {
 namespace {
 
@@ -66,15 +68,13 @@ bool QuaternionDecomposition::compose(Affine3f& out) const {
 }
 
 bool InstanceMotion::at(float time, Affine3f& localToWorld) const {
-  const float local = timeEnd > timeStart ? (time - timeStart) / (timeEnd - timeStart) : (time == timeStart ? 0.f : -1.f);
-  if (!(local >= 0.f && local <= 1.f)) return false;
-  const int segments = int(steps.size()) - 1;
-  const float ftime = local * float(segments);
-  const int segment = std::clamp(int(std::floor(ftime)), 0, segments - 1);
-  const float f = ftime - float(segment);
+  TimeSegment s;
+  if (!timeSegment(time, timeStart, timeEnd, uint32_t(steps.size()), s)) return false;
+  const size_t segment = size_t(s.segment);
+  const float f = s.f;
   if (quaternions.size() == steps.size()) {
-    const QuaternionDecomposition& a = quaternions[size_t(segment)];
-    const QuaternionDecomposition& b = quaternions[size_t(segment) + 1];
+    const QuaternionDecomposition& a = quaternions[segment];
+    const QuaternionDecomposition& b = quaternions[segment + 1];
     QuaternionDecomposition blend;
     blend.scale = lerp(a.scale, b.scale, f);
     blend.skewXY = lerp(a.skewXY, b.skewXY, f), blend.skewXZ = lerp(a.skewXZ, b.skewXZ, f);
@@ -84,8 +84,8 @@ bool InstanceMotion::at(float time, Affine3f& localToWorld) const {
     slerp(a, b, f, blend);
     return blend.compose(localToWorld);
   }
-  const Affine3f& a = steps[size_t(segment)];
-  const Affine3f& b = steps[size_t(segment) + 1];
+  const Affine3f& a = steps[segment];
+  const Affine3f& b = steps[segment + 1];
   localToWorld.vx = lerp(a.vx, b.vx, f);
   localToWorld.vy = lerp(a.vy, b.vy, f);
   localToWorld.vz = lerp(a.vz, b.vz, f);

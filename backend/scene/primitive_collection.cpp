@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "memory/huge_pages.h"
+#include "scene/time_segment.h"
 
 namespace obvh {
 namespace {
@@ -220,22 +221,19 @@ CollectedMotion collectMotionPrimitives(const std::vector<MeshDesc>& meshes) {
   return out;
 }
 
-StoredTriangle MotionTriangle::at(const std::vector<Vec3f>& vertices, float localTime) const {
-  // The time segment the local time falls in, and how far into it, as Embree divides the range.
-  const float segments = float(stepCount - 1);
-  const float ftime = localTime * segments;
-  const int segment = std::clamp(int(std::floor(ftime)), 0, int(stepCount) - 2);
-  const float f = ftime - float(segment), g = 1.f - f;
-  const Vec3f* a = &vertices[firstVertex + 3 * size_t(segment)];
+bool MotionTriangle::at(const std::vector<Vec3f>& vertices, float time, StoredTriangle& out) const {
+  TimeSegment s;
+  if (!timeSegment(time, timeStart, timeEnd, stepCount, s)) return false;
+  const float g = 1.f - s.f;
+  const Vec3f* a = &vertices[firstVertex + 3 * size_t(s.segment)];
   const Vec3f* b = a + 3;
-  StoredTriangle tri;
-  tri.v0 = a[0] * g + b[0] * f;
-  tri.v1 = a[1] * g + b[1] * f;
-  tri.v2 = a[2] * g + b[2] * f;
-  tri.geomID = geomID;
-  tri.primID = primID;
-  tri.kind = kind;
-  return tri;
+  out.v0 = a[0] * g + b[0] * s.f;
+  out.v1 = a[1] * g + b[1] * s.f;
+  out.v2 = a[2] * g + b[2] * s.f;
+  out.geomID = geomID;
+  out.primID = primID;
+  out.kind = kind;
+  return true;
 }
 
 Box3f MotionTriangle::bounds(const std::vector<Vec3f>& vertices) const {

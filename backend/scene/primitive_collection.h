@@ -28,13 +28,8 @@ struct MotionTriangle {
   uint32_t stepCount = 2;
   float timeStart = 0.f, timeEnd = 1.f;
 
-  // The time relative to [timeStart, timeEnd] (0 and 1 at its ends): outside [0, 1] the mesh is
-  // not there.
-  float localTime(float time) const {
-    return timeEnd > timeStart ? (time - timeStart) / (timeEnd - timeStart) : (time == timeStart ? 0.f : -1.f);
-  }
-  // The triangle at a local time in [0, 1].
-  StoredTriangle at(const std::vector<Vec3f>& vertices, float localTime) const;
+  // The triangle at `time`; false when its mesh is not there then (outside [timeStart, timeEnd]).
+  bool at(const std::vector<Vec3f>& vertices, float time, StoredTriangle& out) const;
   // Bounds of every time step (and so of all times between).
   Box3f bounds(const std::vector<Vec3f>& vertices) const;
 };

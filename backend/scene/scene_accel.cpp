@@ -501,8 +501,8 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
       if (object.kind == ObjectKind::Shape) continue;  // Embree's point queries skip points and curves
       if (object.kind == ObjectKind::MotionTriangle) {  // where it is at the query's time
         const MotionTriangle& motion = motion_.triangles[object.index];
-        const float localTime = motion.localTime(callbacks.time());
-        if (localTime >= 0.f && localTime <= 1.f) visitTriangle(motion.at(motion_.vertices, localTime), motion_.gridCells);
+        StoredTriangle tri;
+        if (motion.at(motion_.vertices, callbacks.time(), tri)) visitTriangle(tri, motion_.gridCells);
         continue;
       }
       if (instance) continue;  // one instance level, as for rays

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scene/scene_accel.h"
+#include "scene/time_segment.h"
 #include "traversal/bvh2_traverse.h"
 
 namespace obvh {
@@ -60,14 +61,10 @@ bool SceneAccel::shapeAt(const ShapePrimitive& shape, float time, ShapeVertex& a
     a = shape.a, b = shape.b;
     return true;
   }
-  MotionTriangle timing;  // the same time segments as moving triangles
-  timing.stepCount = shape.stepCount, timing.timeStart = shape.timeStart, timing.timeEnd = shape.timeEnd;
-  const float local = timing.localTime(time);
-  if (!(local >= 0.f && local <= 1.f)) return false;
-  const float ftime = local * float(shape.stepCount - 1);
-  const int segment = std::clamp(int(std::floor(ftime)), 0, int(shape.stepCount) - 2);
-  const float f = ftime - float(segment), g = 1.f - f;
-  const ShapeVertex* from = &shapeSteps_[shape.firstStep + 2 * size_t(segment)];
+  TimeSegment s;
+  if (!timeSegment(time, shape.timeStart, shape.timeEnd, shape.stepCount, s)) return false;
+  const float f = s.f, g = 1.f - f;
+  const ShapeVertex* from = &shapeSteps_[shape.firstStep + 2 * size_t(s.segment)];
   const ShapeVertex* to = from + 2;
   a = {from[0].p * g + to[0].p * f, from[0].r * g + to[0].r * f};
   b = {from[1].p * g + to[1].p * f, from[1].r * g + to[1].r * f};
@@ -101,10 +98,9 @@ bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit,
 
 bool SceneAccel::intersectMotionTriangle(const MotionTriangle& motion, Ray& ray, Hit& hit, const QueryState& state,
                                          bool occlusion, WatertightRayOnDemand& watertight) const {
-  const float localTime = motion.localTime(ray.time);
-  if (!(localTime >= 0.f && localTime <= 1.f)) return false;
-  // The triangle at that time, tested as a leaf of one triangle (masks, filters, Embree's hit).
-  const StoredTriangle tri = motion.at(motion_.vertices, localTime);
+  // The triangle at the ray's time, tested as a leaf of one triangle (masks, filters, Embree's hit).
+  StoredTriangle tri;
+  if (!motion.at(motion_.vertices, ray.time, tri)) return false;
   TriangleSet set = motionSet_;
   set.triangles = &tri;
   const WatertightRay& wr = watertight.of(ray, set);
