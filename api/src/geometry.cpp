@@ -210,7 +210,6 @@ void Geometry::setTimeStepCount(unsigned count) {
   const bool instance = type_ == RTC_GEOMETRY_TYPE_INSTANCE;
   if (count > 1 && !isMesh() && !isShape() && !instance && type_ != RTC_GEOMETRY_TYPE_USER)
     fail(RTC_ERROR_INVALID_OPERATION, "motion blur is not supported by obvh for this geometry type");
-  timeSteps_ = count;
   if (instance) {
     transforms_.resize(count);
     decompositions_.resize(count);

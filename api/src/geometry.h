@@ -46,7 +46,9 @@ class Geometry : public RefCounted {
   // Motion blur: meshes take one vertex buffer per time step (vertexBuffer(step)) and instances one
   // transform, spread over the time range; other types have one time step.
   void setTimeStepCount(unsigned count);
-  unsigned timeStepCount() const { return timeSteps_; }
+  unsigned timeStepCount() const {
+    return unsigned(type_ == RTC_GEOMETRY_TYPE_INSTANCE ? transforms_.size() : vertices_.size());
+  }
   void setTimeRange(float start, float end);
   float timeStart() const { return timeStart_; }
   float timeEnd() const { return timeEnd_; }
@@ -116,7 +118,7 @@ class Geometry : public RefCounted {
   Ref<Device> device_;
   RTCGeometryType type_;
   BufferView index_;  // the index buffer, or a grid mesh's grid buffer
-  std::vector<BufferView> vertices_;
+  std::vector<BufferView> vertices_;  // per time step (user geometry: one empty view per step)
   std::vector<BufferView> attributes_;
   unsigned mask_ = 0xFFFFFFFFu;
   int quality_ = RTC_BUILD_QUALITY_MEDIUM;
@@ -125,7 +127,6 @@ class Geometry : public RefCounted {
   void* userData_ = nullptr;
   std::atomic<uint64_t> modCounter_{0};
   Scene* instancedScene_ = nullptr;  // retained while set
-  unsigned timeSteps_ = 1;
   std::vector<Affine3f> transforms_{Affine3f{}};  // per time step
   std::vector<QuaternionDecomposition> decompositions_{QuaternionDecomposition{}};  // where given so
   std::vector<uint8_t> givenAsDecomposition_{0};

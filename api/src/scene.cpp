@@ -95,15 +95,19 @@ MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
   return mesh;
 }
 
-// A mesh is built when its primitive buffer and the vertex buffers of every time step are set, the
-// steps all of one size (Embree's geometry verification).
-bool meshBuffersComplete(const Geometry& g) {
-  if (!g.indexBuffer().bound() || !g.indexBuffer().data()) return false;
+// The vertex buffers of every time step are set and all of one size (Embree's geometry
+// verification); else nothing of the geometry is built.
+bool timeStepVerticesComplete(const Geometry& g) {
   for (unsigned step = 0; step < g.timeStepCount(); ++step) {
     const BufferView& v = g.vertexBuffer(step);
     if (!v.bound() || !v.data() || v.itemCount != g.vertexBuffer().itemCount) return false;
   }
   return true;
+}
+
+// A mesh is built when its primitive buffer is set too.
+bool meshBuffersComplete(const Geometry& g) {
+  return g.indexBuffer().bound() && g.indexBuffer().data() && timeStepVerticesComplete(g);
 }
 
 // Sphere points and flat linear curves: their float4 vertices (and a curve's segment indices) are
@@ -122,11 +126,7 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
       out[i] = {{v[0], v[1], v[2]}, v[3]};
     }
   };
-  // Every time step's vertices, all bound and of one count (else nothing of this geometry is built).
-  for (unsigned step = 0; step < g.timeStepCount(); ++step) {
-    const BufferView& v = g.vertexBuffer(step);
-    if (!v.data() || v.itemCount != g.vertexBuffer().itemCount) return desc;
-  }
+  if (!timeStepVerticesComplete(g)) return desc;
   copyStep(0, desc.vertices);
   desc.laterSteps.resize(g.timeStepCount() - 1);
   for (unsigned step = 1; step < g.timeStepCount(); ++step) copyStep(step, desc.laterSteps[step - 1]);
