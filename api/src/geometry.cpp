@@ -33,8 +33,7 @@ void Geometry::setInstancedScene(Scene* scene) {
 void Geometry::setTransform(unsigned timeStep, const Affine3f& xfm) {
   requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
   if (timeStep >= transforms_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid timestep");
-  transforms_[timeStep] = xfm;
-  givenAsDecomposition_[timeStep] = 0;
+  transforms_[timeStep] = {xfm, {}, false};
   markModified();
 }
 
@@ -42,17 +41,16 @@ void Geometry::setTransform(unsigned timeStep, const QuaternionDecomposition& de
   Affine3f m;
   if (!decomposition.compose(m)) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid quaternion");
   setTransform(timeStep, m);
-  decompositions_[timeStep] = decomposition;
-  givenAsDecomposition_[timeStep] = 1;
+  transforms_[timeStep] = {m, decomposition, true};
 }
 
 InstanceMotion Geometry::instanceMotion() const {
   InstanceMotion motion;
   if (transforms_.size() < 2) return motion;
-  motion.steps = transforms_;
+  for (const TimeStepTransform& step : transforms_) motion.steps.push_back(step.transform);
   // Quaternion interpolation when every step was given as a decomposition.
-  if (std::all_of(givenAsDecomposition_.begin(), givenAsDecomposition_.end(), [](uint8_t q) { return q != 0; }))
-    motion.quaternions = decompositions_;
+  if (std::all_of(transforms_.begin(), transforms_.end(), [](const TimeStepTransform& s) { return s.givenAsDecomposition; }))
+    for (const TimeStepTransform& step : transforms_) motion.quaternions.push_back(step.decomposition);
   motion.timeStart = timeStart_, motion.timeEnd = timeEnd_;
   return motion;
 }
@@ -81,7 +79,7 @@ void Geometry::getTransform(float time, int format, void* xfm) const {
   requireType(*this, RTC_GEOMETRY_TYPE_INSTANCE, "operation not supported for this geometry");
   if (!xfm) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null transform");
   float* m = static_cast<float*>(xfm);
-  Affine3f a = transforms_[0];
+  Affine3f a = transforms_[0].transform;
   // A moving instance's transform at that time (clamped to its time range).
   const InstanceMotion motion = instanceMotion();
   if (motion.moving()) motion.at(std::clamp(time, timeStart_, timeEnd_), a);
@@ -212,8 +210,6 @@ void Geometry::setTimeStepCount(unsigned count) {
     fail(RTC_ERROR_INVALID_OPERATION, "motion blur is not supported by obvh for this geometry type");
   if (instance) {
     transforms_.resize(count);
-    decompositions_.resize(count);
-    givenAsDecomposition_.resize(count, 0);
   } else {
     vertices_.resize(count);
   }

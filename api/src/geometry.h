@@ -65,7 +65,7 @@ class Geometry : public RefCounted {
   void setTransform(unsigned timeStep, int format, const void* xfm);
   void setTransform(unsigned timeStep, const Affine3f& xfm);
   void setTransform(unsigned timeStep, const QuaternionDecomposition& decomposition);
-  const Affine3f& transform() const { return transforms_[0]; }
+  const Affine3f& transform() const { return transforms_[0].transform; }
   // The transforms of every time step, for a moving instance.
   InstanceMotion instanceMotion() const;
   void getTransform(float time, int format, void* xfm) const;
@@ -127,9 +127,13 @@ class Geometry : public RefCounted {
   void* userData_ = nullptr;
   std::atomic<uint64_t> modCounter_{0};
   Scene* instancedScene_ = nullptr;  // retained while set
-  std::vector<Affine3f> transforms_{Affine3f{}};  // per time step
-  std::vector<QuaternionDecomposition> decompositions_{QuaternionDecomposition{}};  // where given so
-  std::vector<uint8_t> givenAsDecomposition_{0};
+  // An instance's transform at one time step, and its decomposition when it was given as one.
+  struct TimeStepTransform {
+    Affine3f transform;
+    QuaternionDecomposition decomposition;
+    bool givenAsDecomposition = false;
+  };
+  std::vector<TimeStepTransform> transforms_{TimeStepTransform{}};
   float timeStart_ = 0.f, timeEnd_ = 1.f;
   UserCallbacks user_;
   RTCFilterFunctionN intersectFilter_ = nullptr;
