@@ -47,8 +47,7 @@ void addQuadTriangles(const D3 q[4], std::vector<PrimitiveTriangle>& out, Primit
 // cell (grid, whose (u, v) spans the whole grid); none when a moving mesh is not there then.
 std::vector<PrimitiveTriangle> primitiveTriangles(const MeshData& mesh, unsigned primID, float time) {
   std::vector<PrimitiveTriangle> out;
-  D3 probe;
-  if (!vertex(mesh, 0, time, probe)) return out;
+  if (!mesh.presentAt(time)) return out;
   const auto vertexAt = [&](uint64_t index) {
     D3 v;
     vertex(mesh, index, time, v);

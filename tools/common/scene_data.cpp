@@ -7,13 +7,28 @@
 
 namespace obvh::tools {
 
+namespace {
+
+// The time relative to [start, end]: 0 and 1 at its ends, outside [0, 1] when not in it.
+float localTime(float time, float start, float end) {
+  return end > start ? (time - start) / (end - start) : (time == start ? 0.f : -1.f);
+}
+
+}  // namespace
+
+bool MeshData::presentAt(float time) const {
+  if (laterSteps.empty()) return true;
+  const float local = localTime(time, timeStart, timeEnd);
+  return local >= 0.f && local <= 1.f;
+}
+
 bool MeshData::vertexAt(uint64_t index, float time, float out[3]) const {
   if (laterSteps.empty()) {
     for (int k = 0; k < 3; ++k) out[k] = vertices[3 * index + k];
     return true;
   }
-  const float local = timeEnd > timeStart ? (time - timeStart) / (timeEnd - timeStart) : (time == timeStart ? 0.f : -1.f);
-  if (!(local >= 0.f && local <= 1.f)) return false;
+  if (!presentAt(time)) return false;
+  const float local = localTime(time, timeStart, timeEnd);
   const int segments = int(laterSteps.size());
   const float ftime = local * float(segments);
   const int segment = std::clamp(int(std::floor(ftime)), 0, segments - 1);

@@ -25,8 +25,10 @@ struct MeshData {
 
   size_t vertexCount() const { return vertices.size() / 3; }
   unsigned timeStepCount() const { return unsigned(1 + laterSteps.size()); }
+  // Whether a moving mesh is there at `time` (inside its time range); a still one always is.
+  bool presentAt(float time) const;
   // Vertex index at a ray's time, blended as Embree and obvh blend time steps (in float); false
-  // when the time lies outside the mesh's time range.
+  // when the mesh is not there then.
   bool vertexAt(uint64_t index, float time, float out[3]) const;
   size_t primitiveCount() const { return grid ? grids.size() : indices.size() / (quads ? 4 : 3); }
 };
