@@ -147,6 +147,10 @@ BufferView& Geometry::view(int type, unsigned slot) {
     case RTC_BUFFER_TYPE_VERTEX:
       if (slot >= vertices_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       return vertices_[slot];
+    case RTC_BUFFER_TYPE_FLAGS:
+      if (!isCurve()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+      return flags_;
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       return attributes_[slot];
@@ -158,6 +162,11 @@ BufferView& Geometry::view(int type, unsigned slot) {
 void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>& buffer,
                          size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
   if (!isMesh() && !isShape()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+  // Checked first, as Embree does; flags (curves) are bytes.
+  const uintptr_t start = reinterpret_cast<uintptr_t>(buffer->data()) + byteOffset;
+  const bool bytes = type == RTC_BUFFER_TYPE_FLAGS && isShape();
+  if (!bytes && ((start & 3u) != 0 || (byteStride & 3u) != 0))
+    fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
   switch (type) {
     case RTC_BUFFER_TYPE_GRID:
       if (!isGridMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
@@ -176,6 +185,11 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
       if (format != (isShape() ? RTC_FORMAT_FLOAT4 : RTC_FORMAT_FLOAT3))
         fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex buffer format");
       break;
+    case RTC_BUFFER_TYPE_FLAGS:
+      if (!isCurve()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+      if (format != RTC_FORMAT_UCHAR) fail(RTC_ERROR_INVALID_OPERATION, "invalid flags buffer format");
+      break;
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer slot");
       if (formatByteSize(format) == 0) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer format");
@@ -183,8 +197,6 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
     default:
       fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   }
-  const uintptr_t start = reinterpret_cast<uintptr_t>(buffer->data()) + byteOffset;
-  if ((start & 3u) != 0 || (byteStride & 3u) != 0) fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
   // Embree does not check this; obvh does, because reading past the buffer could crash.
   if (checkRange && itemCount > 0 && byteOffset + (itemCount - 1) * byteStride + formatByteSize(format) > buffer->size())
     fail(RTC_ERROR_INVALID_ARGUMENT, "buffer range out of bounds");
@@ -193,6 +205,11 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
   BufferView& target = view(type, slot);
   target = BufferView{buffer, byteOffset, byteStride, itemCount, format};
   markModified();
+}
+
+void Geometry::setTessellationRate(float rate) {
+  if (!isCurve()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  tessellationRate_ = std::clamp(rate, 1.f, 16.f);
 }
 
 void* Geometry::bufferData(int type, unsigned slot) { return view(type, slot).data(); }

@@ -103,8 +103,17 @@ class Geometry : public RefCounted {
   bool isMesh() const {
     return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD || type_ == RTC_GEOMETRY_TYPE_GRID;
   }
-  // Sphere points and flat linear curves: float4 vertices (position and radius).
-  bool isShape() const { return type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || type_ == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE; }
+  // Sphere points, flat linear curves and round cubic curves: float4 vertices (position and radius).
+  bool isShape() const {
+    return type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || type_ == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE ||
+           type_ == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type_ == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
+           type_ == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+  }
+  bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
+  // Curves: Embree keeps a tessellation rate (1..16) and a flags buffer for every curve type, but
+  // only flat cubic curves (tessellation) and round linear curves (flags) read them, neither of
+  // which obvh implements: accepted and kept, as Embree does, and never read.
+  void setTessellationRate(float rate);
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
   const BufferView& attributeBuffer(unsigned slot) const;
 
@@ -120,6 +129,8 @@ class Geometry : public RefCounted {
   BufferView index_;  // the index buffer, or a grid mesh's grid buffer
   std::vector<BufferView> vertices_;  // per time step (user geometry: one empty view per step)
   std::vector<BufferView> attributes_;
+  BufferView flags_;  // curves
+  float tessellationRate_ = 4.f;
   unsigned mask_ = 0xFFFFFFFFu;
   int quality_ = RTC_BUILD_QUALITY_MEDIUM;
   bool enabled_ = true;

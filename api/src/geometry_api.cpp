@@ -54,12 +54,17 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgumen
     requireHandle(d);
     const int type = enumBits(typeArgument);
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
-    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_GRID &&
-        type != RTC_GEOMETRY_TYPE_USER && type != RTC_GEOMETRY_TYPE_INSTANCE &&
-        type != RTC_GEOMETRY_TYPE_SPHERE_POINT && type != RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE)
+    const bool implemented = type == RTC_GEOMETRY_TYPE_TRIANGLE || type == RTC_GEOMETRY_TYPE_QUAD ||
+                             type == RTC_GEOMETRY_TYPE_GRID || type == RTC_GEOMETRY_TYPE_USER ||
+                             type == RTC_GEOMETRY_TYPE_INSTANCE || type == RTC_GEOMETRY_TYPE_SPHERE_POINT ||
+                             type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE || type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE ||
+                             type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
+                             type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+    if (!implemented)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
                                             " is not supported by obvh yet (triangles, quads, grids, user geometry, "
-                                            "instances, sphere points and flat linear curves are)");
+                                            "instances, sphere points, flat linear curves and round Bezier, B-spline "
+                                            "and Catmull-Rom curves are)");
     return (new Geometry(d, static_cast<RTCGeometryType>(type)))->handle();  // validated above
   });
 }
@@ -197,7 +202,9 @@ RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float time, RTCFormat
   withGeometry(geometry, [&](Geometry& g) { g.getTransform(time, enumBits(format), xfm); });
 }
 
-RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float) { failForThisGeometry(geometry); }
+RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float rate) {
+  withGeometry(geometry, [&](Geometry& g) { g.setTessellationRate(rate); });
+}
 RTC_API void rtcSetGeometryTopologyCount(RTCGeometry geometry, unsigned int) { failForThisGeometry(geometry); }
 RTC_API void rtcSetGeometrySubdivisionMode(RTCGeometry geometry, unsigned int, RTCSubdivisionMode) {
   failForThisGeometry(geometry);

@@ -2,7 +2,8 @@
 // triangles interpolate linearly in (u, v); quads use the same two-triangle split as intersection,
 // (v0, v1, v3) for u + v <= 1 and (v2, v3, v1) with (1-u, 1-v) otherwise. A grid's (u, v), clamped
 // to [0, 1], picks a cell, interpolated as a quad with derivatives per unit of the grid's (u, v).
-// Second derivatives are 0.
+// Second derivatives are 0 on meshes. Curves evaluate their basis along the segment at u
+// (interpolateCurve).
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -66,9 +67,68 @@ Corners gridCorners(const BufferView& values, const unsigned char* record, float
   return c;
 }
 
+// A curve segment's basis at u: the weights of its control vertices (2 for linear curves, else 4
+// from the segment's first index) and their first and second derivatives in u.
+struct CurveWeights {
+  int count = 4;
+  float w[4], dw[4], ddw[4];
+};
+
+CurveWeights curveWeights(int type, float u) {
+  CurveWeights c;
+  const float s = 1.f - u, u2 = u * u, u3 = u2 * u;
+  switch (type) {
+    case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
+      c = {2, {s, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {0.f, 0.f, 0.f, 0.f}};
+      break;
+    case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE:
+      c = {4, {s * s * s, 3.f * s * s * u, 3.f * s * u2, u3},
+           {-3.f * s * s, 3.f * s * s - 6.f * s * u, 6.f * s * u - 3.f * u2, 3.f * u2},
+           {6.f * s, 6.f * u - 12.f * s, 6.f * s - 12.f * u, 6.f * u}};
+      break;
+    case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE:
+      c = {4, {s * s * s / 6.f, (3.f * u3 - 6.f * u2 + 4.f) / 6.f, (-3.f * u3 + 3.f * u2 + 3.f * u + 1.f) / 6.f, u3 / 6.f},
+           {-0.5f * s * s, 1.5f * u2 - 2.f * u, -1.5f * u2 + u + 0.5f, 0.5f * u2},
+           {s, 3.f * u - 2.f, -3.f * u + 1.f, u}};
+      break;
+    default:  // Catmull-Rom
+      c = {4, {0.5f * (-u3 + 2.f * u2 - u), 0.5f * (3.f * u3 - 5.f * u2 + 2.f), 0.5f * (-3.f * u3 + 4.f * u2 + u), 0.5f * (u3 - u2)},
+           {0.5f * (-3.f * u2 + 4.f * u - 1.f), 0.5f * (9.f * u2 - 10.f * u), 0.5f * (-9.f * u2 + 8.f * u + 1.f), 0.5f * (3.f * u2 - 2.f * u)},
+           {-3.f * u + 2.f, 9.f * u - 5.f, -9.f * u + 4.f, 3.f * u - 1.f}};
+  }
+  return c;
+}
+
+// A curve's values along its segment primID at u. Measured on Debian's Embree and answered alike:
+// a cubic curve writes P, dPdu and ddPdudu and leaves the derivatives in v as they were; a flat
+// linear curve writes P and dPdu = 0 (not its slope) and leaves the rest.
+void interpolateCurve(const Geometry& g, const BufferView& values, unsigned primID, float u, float* P, float* dPdu,
+                      float* ddPdudu, unsigned valueCount) {
+  const BufferView& index = g.indexBuffer();
+  if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
+  uint32_t first;
+  std::memcpy(&first, index.data() + size_t(primID) * index.byteStride, sizeof first);
+  const bool linear = g.type() == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE;
+  const CurveWeights c = curveWeights(g.type(), u);
+  const float* vertex[4];
+  for (int k = 0; k < c.count; ++k) {
+    if (uint64_t(first) + uint64_t(k) > 0xFFFFFFFFu)
+      fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
+    vertex[k] = itemAt(values, first + uint32_t(k), valueCount);
+  }
+  for (unsigned i = 0; i < valueCount; ++i) {
+    float p = 0.f, dp = 0.f, ddp = 0.f;
+    for (int k = 0; k < c.count; ++k) p += c.w[k] * vertex[k][i], dp += c.dw[k] * vertex[k][i], ddp += c.ddw[k] * vertex[k][i];
+    if (P) P[i] = p;
+    if (dPdu) dPdu[i] = linear ? 0.f : dp;
+    if (ddPdudu && !linear) ddPdudu[i] = ddp;
+  }
+}
+
 void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int type, unsigned slot, float* P,
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
-  if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes");
+  if (!g.isMesh() && !g.isCurve())
+    fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes and curves");
   const BufferView* values = nullptr;
   if (type == RTC_BUFFER_TYPE_VERTEX) {
     if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
@@ -80,6 +140,7 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
   }
   const BufferView& index = g.indexBuffer();
   if (!values->bound() || !index.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+  if (g.isCurve()) return interpolateCurve(g, *values, primID, u, P, dPdu, ddPdudu, valueCount);
   if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
   const unsigned char* record = index.data() + size_t(primID) * index.byteStride;
   Corners c;

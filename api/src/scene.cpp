@@ -110,11 +110,21 @@ bool meshBuffersComplete(const Geometry& g) {
   return g.indexBuffer().bound() && g.indexBuffer().data() && timeStepVerticesComplete(g);
 }
 
-// Sphere points and flat linear curves: their float4 vertices (and a curve's segment indices) are
-// copied, as the backend keeps its own copy of every primitive it intersects.
+// Sphere points and curves: their float4 vertices (and a curve's segment indices) are copied, as the
+// backend keeps its own copy of every primitive it intersects.
+ShapeKind shapeKindOf(int type) {
+  switch (type) {
+    case RTC_GEOMETRY_TYPE_SPHERE_POINT: return ShapeKind::Sphere;
+    case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE: return ShapeKind::FlatLinearCurve;
+    case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: return ShapeKind::RoundBezierCurve;
+    case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: return ShapeKind::RoundBSplineCurve;
+    default: return ShapeKind::RoundCatmullRomCurve;
+  }
+}
+
 ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   ShapeGeometryDesc desc;
-  desc.kind = g.type() == RTC_GEOMETRY_TYPE_SPHERE_POINT ? ShapeKind::Sphere : ShapeKind::FlatLinearCurve;
+  desc.kind = shapeKindOf(g.type());
   desc.geomID = geomID;
   desc.mask = g.mask();
   const auto copyStep = [&](unsigned step, std::vector<ShapeVertex>& out) {
@@ -132,7 +142,7 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   for (unsigned step = 1; step < g.timeStepCount(); ++step) copyStep(step, desc.laterSteps[step - 1]);
   desc.timeStart = g.timeStart(), desc.timeEnd = g.timeEnd();
   const BufferView& index = g.indexBuffer();
-  if (desc.kind == ShapeKind::FlatLinearCurve && index.data()) {
+  if (desc.kind != ShapeKind::Sphere && index.data()) {
     desc.segments.resize(index.itemCount);
     for (size_t i = 0; i < index.itemCount; ++i) std::memcpy(&desc.segments[i], index.data() + i * index.byteStride, 4);
   }
@@ -211,6 +221,9 @@ void Scene::rebuild() {
         break;
       case RTC_GEOMETRY_TYPE_SPHERE_POINT:
       case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
+      case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE:
+      case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE:
+      case RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE:
         desc.shapes.push_back(shapeOf(*g, uint32_t(id)));
         break;
       case RTC_GEOMETRY_TYPE_USER:

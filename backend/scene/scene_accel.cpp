@@ -1,4 +1,5 @@
 #include "scene/scene_accel.h"
+#include "scene/shape_controls.h"
 
 #include <tbb/parallel_for.h>
 
@@ -168,27 +169,26 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   shapes_.clear();
   shapeSteps_.clear();
   for (const ShapeGeometryDesc& geometry : desc.shapes) {
-    const bool curve = geometry.kind == ShapeKind::FlatLinearCurve;
-    const size_t count = curve ? geometry.segments.size() : geometry.vertices.size();
+    const int count = controlPointCount(geometry.kind);
+    const bool curve = geometry.kind != ShapeKind::Sphere;
+    const size_t primitives = curve ? geometry.segments.size() : geometry.vertices.size();
     const size_t steps = 1 + geometry.laterSteps.size();
     const auto stepVertices = [&](size_t step) -> const std::vector<ShapeVertex>& {
       return step == 0 ? geometry.vertices : geometry.laterSteps[step - 1];
     };
-    for (size_t prim = 0; prim < count; ++prim) {
-      ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), {}, {}};
+    for (size_t prim = 0; prim < primitives; ++prim) {
+      ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), {}};
       const size_t first = curve ? geometry.segments[prim] : prim;
-      if (curve && first + 1 >= geometry.vertices.size()) continue;
-      const size_t second = curve ? first + 1 : first;
+      if (first + size_t(count) > geometry.vertices.size()) continue;
       Box3f bounds;
       for (size_t step = 0; step < steps; ++step) {
-        const ShapeVertex& a = stepVertices(step)[first];
-        const ShapeVertex& b = stepVertices(step)[second];
-        bounds.extend(curve ? segmentBounds(a, b) : sphereBounds(a));
-        if (steps > 1) shapeSteps_.insert(shapeSteps_.end(), {a, b});
+        const ShapeControls controls = shapeControls(geometry.kind, &stepVertices(step)[first]);
+        bounds.extend(controls.bounds);
+        if (step == 0) std::copy(controls.v, controls.v + count, shape.v);
+        if (steps > 1) shapeSteps_.insert(shapeSteps_.end(), controls.v, controls.v + count);
       }
-      shape.a = geometry.vertices[first], shape.b = geometry.vertices[second];
       if (steps > 1) {
-        shape.firstStep = uint32_t(shapeSteps_.size() - 2 * steps);
+        shape.firstStep = uint32_t(shapeSteps_.size() - size_t(count) * steps);
         shape.stepCount = uint32_t(steps);
         shape.timeStart = geometry.timeStart, shape.timeEnd = geometry.timeEnd;
       }

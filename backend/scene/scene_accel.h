@@ -116,17 +116,18 @@ class SceneAccel {
   static const Instance* placedAt(const Instance& instance, float time, Instance& storage);
   static Instance makeInstance(const SceneAccel* child, const Affine3f& localToWorld, uint32_t geomID);
 
-  // A sphere, or a flat curve segment (its two vertices). A moving one keeps its vertices at every
-  // time step in shapeSteps_ (a and b of step s at firstStep + 2 s) and a, b are blended per ray.
+  // A sphere, a flat curve segment (its two vertices) or a round cubic curve (its Bezier control
+  // points, whatever its basis); v holds controlPointCount(kind) of them. A moving one keeps them
+  // at every time step in shapeSteps_ (step s from firstStep + s * count) and they are blended per ray.
   struct ShapePrimitive {
     ShapeKind kind;
     uint32_t geomID, primID;
-    ShapeVertex a, b;
+    ShapeVertex v[4];
     uint32_t firstStep = 0, stepCount = 1;
     float timeStart = 0.f, timeEnd = 1.f;
   };
-  // The primitive where it is at `time`; false when it is not there then.
-  bool shapeAt(const ShapePrimitive& shape, float time, ShapeVertex& a, ShapeVertex& b) const;
+  // The primitive's control points where it is at `time`; false when it is not there then.
+  bool shapeAt(const ShapePrimitive& shape, float time, ShapeVertex out[4]) const;
 
   // watertight: the ray's frame for moving triangles, made once per ray (it depends on org and dir).
   bool intersectObject(const ObjectRef& object, Ray& ray, Hit& hit, const QueryState& state,

@@ -28,14 +28,19 @@ struct UserGeometryDesc {
   std::vector<Box3f> primitiveBounds;  // an empty or non-finite box skips the primitive
 };
 
-// Embree's sphere points and flat linear curves, which obvh intersects itself (intersect/shapes.h).
-enum class ShapeKind { Sphere, FlatLinearCurve };
+// Embree's sphere points, flat linear curves and round cubic curves, which obvh intersects itself
+// (intersect/shapes.h, intersect/round_curve.h).
+enum class ShapeKind { Sphere, FlatLinearCurve, RoundBezierCurve, RoundBSplineCurve, RoundCatmullRomCurve };
+// The vertices one primitive of the kind reads: a sphere's centre, a segment's ends, a cubic's controls.
+inline int controlPointCount(ShapeKind kind) {
+  return kind == ShapeKind::Sphere ? 1 : kind == ShapeKind::FlatLinearCurve ? 2 : 4;
+}
 struct ShapeGeometryDesc {
   ShapeKind kind = ShapeKind::Sphere;
   uint32_t geomID = 0;
   uint32_t mask = 0xFFFFFFFFu;
   std::vector<ShapeVertex> vertices;
-  std::vector<uint32_t> segments;  // curves: each segment's first vertex (the second follows it)
+  std::vector<uint32_t> segments;  // curves: each segment's first vertex (the others follow it)
   // Motion blur: the vertices of time steps 1, 2, ... (vertices is step 0), over [timeStart, timeEnd].
   std::vector<std::vector<ShapeVertex>> laterSteps;
   float timeStart = 0.f, timeEnd = 1.f;

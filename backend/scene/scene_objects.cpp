@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "scene/scene_accel.h"
+#include "scene/shape_controls.h"
 #include "scene/time_segment.h"
 #include "traversal/bvh2_traverse.h"
 
@@ -56,29 +57,28 @@ Ray SceneAccel::toLocal(const Instance& instance, const Ray& ray) {
   return local;
 }
 
-bool SceneAccel::shapeAt(const ShapePrimitive& shape, float time, ShapeVertex& a, ShapeVertex& b) const {
+bool SceneAccel::shapeAt(const ShapePrimitive& shape, float time, ShapeVertex out[4]) const {
+  const int count = controlPointCount(shape.kind);
   if (shape.stepCount < 2) {
-    a = shape.a, b = shape.b;
+    std::copy(shape.v, shape.v + count, out);
     return true;
   }
   TimeSegment s;
   if (!timeSegment(time, shape.timeStart, shape.timeEnd, shape.stepCount, s)) return false;
   const float f = s.f, g = 1.f - f;
-  const ShapeVertex* from = &shapeSteps_[shape.firstStep + 2 * size_t(s.segment)];
-  const ShapeVertex* to = from + 2;
-  a = {from[0].p * g + to[0].p * f, from[0].r * g + to[0].r * f};
-  b = {from[1].p * g + to[1].p * f, from[1].r * g + to[1].r * f};
+  const ShapeVertex* from = &shapeSteps_[shape.firstStep + size_t(count) * size_t(s.segment)];
+  const ShapeVertex* to = from + count;
+  for (int k = 0; k < count; ++k) out[k] = {from[k].p * g + to[k].p * f, from[k].r * g + to[k].r * f};
   return true;
 }
 
 bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit, const QueryState& state,
                                 bool occlusion) const {
   if ((geometryMasks_[shape.geomID] & ray.mask) == 0) return false;
-  ShapeVertex a, b;
-  if (!shapeAt(shape, ray.time, a, b)) return false;
+  ShapeVertex controls[4];
+  if (!shapeAt(shape, ray.time, controls)) return false;
   ShapeHit sh;
-  const bool found = shape.kind == ShapeKind::Sphere ? intersectSphere(ray, a, sh) : intersectFlatSegment(ray, a, b, sh);
-  if (!found) return false;
+  if (!intersectShapeControls(shape.kind, ray, controls, sh)) return false;
   Hit candidate;
   candidate.Ng = sh.Ng;
   candidate.u = sh.u;

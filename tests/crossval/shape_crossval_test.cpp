@@ -10,6 +10,7 @@
 
 #include "crossval_harness.h"
 #include "ray_generation.h"
+#include "shape_answers.h"
 
 namespace obvh::test {
 namespace {
@@ -152,75 +153,27 @@ void expectShapesMatchEmbree(const ShapeScene& start, const ShapeScene* later) {
   }
 
   if (later) assignRandomTimes(rays, 13);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  size_t hits[2] = {0, 0}, grazing = 0, joints = 0, mismatched = 0, occlusionMismatched = 0;
-  std::string firstMismatch;
-  for (const RTCRay& ray : rays) {
+  ShapeAnswerRules rules;
+  // Grazing: the answered primitive has the ray within 1e-4 (spheres) or 1e-3 (ribbons) of its outline.
+  rules.grazes = [&](const RTCRay& ray, const RTCHit& h) {
     const ShapeScene placed = sceneAt(start, later, ray.time);  // where the shapes are for this ray
-    RTCRayHit rh[2];
-    RTCRay occluded[2];
-    for (int k = 0; k < 2; ++k) {
-      rh[k].ray = ray;
-      rh[k].hit.geomID = rh[k].hit.primID = RTC_INVALID_GEOMETRY_ID;
-      (k ? libs.obvh : libs.embree)->rtcIntersect1(k ? candidate : reference, &context, &rh[k]);
-      occluded[k] = ray;
-      (k ? libs.obvh : libs.embree)->rtcOccluded1(k ? candidate : reference, &context, &occluded[k]);
-      hits[k] += rh[k].hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    }
-    const RTCHit& e = rh[0].hit;
-    const RTCHit& o = rh[1].hit;
-    // Grazing: one of the answered primitives has the ray within 1e-4 of its silhouette.
-    const auto grazes = [&](const RTCHit& h) {
-      if (h.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-      if (h.geomID == 0) return std::fabs(silhouetteMargin(ray, placed.spheres[h.primID], nullptr)) < 1e-4;
-      const uint32_t first = data.segments[h.primID];
-      return std::fabs(silhouetteMargin(ray, placed.curveVertices[first], &placed.curveVertices[first + 1])) < 1e-3;
-    };
-    // A ray through the joint of two consecutive segments hits both at the same depth (u = 1 on
-    // the first, u = 0 on the second): either is right, and the traversal order picks one.
-    const auto jointTie = [&] {
-      const float te = rh[0].ray.tfar, to = rh[1].ray.tfar;
-      if (e.geomID != 1 || o.geomID != 1 || std::fabs(te - to) > 1e-5f * std::max(1.f, te)) return false;
-      const RTCHit& first = e.primID < o.primID ? e : o;
-      const RTCHit& second = e.primID < o.primID ? o : e;
-      return data.segments[second.primID] == data.segments[first.primID] + 1 && first.u == 1.f && second.u == 0.f;
-    };
-    const bool sameAnswer = e.geomID == o.geomID && e.primID == o.primID;
-    if (!sameAnswer && jointTie()) {
-      ++joints;
-      continue;
-    }
-    const bool occlusionAgrees = (occluded[0].tfar < 0.f) == (occluded[1].tfar < 0.f);
-    if (!sameAnswer || !occlusionAgrees) {
-      if (grazes(e) || grazes(o)) {
-        ++grazing;
-        continue;
-      }
-      mismatched += !sameAnswer;
-      occlusionMismatched += !occlusionAgrees;
-      if (firstMismatch.empty()) firstMismatch = tools::describeRay(ray);
-      continue;
-    }
-    if (e.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-    const float te = rh[0].ray.tfar, to = rh[1].ray.tfar;
-    const float scale = std::max({std::fabs(e.Ng_x), std::fabs(e.Ng_y), std::fabs(e.Ng_z), 1e-3f});
-    const bool close = std::fabs(te - to) <= 1e-4f * std::max(1.f, te) && std::fabs(e.u - o.u) <= 2e-3f &&
-                       std::fabs(e.v - o.v) <= 1e-6f && std::fabs(e.Ng_x - o.Ng_x) <= 1e-3f * scale &&
-                       std::fabs(e.Ng_y - o.Ng_y) <= 1e-3f * scale && std::fabs(e.Ng_z - o.Ng_z) <= 1e-3f * scale;
-    if (!close && !grazes(e)) {
-      ++mismatched;
-      if (firstMismatch.empty()) firstMismatch = tools::describeRay(ray) + " (values differ)";
-    }
-  }
-  std::printf("[crossval] %s: %zu rays, Embree %zu hits, obvh %zu hits, %zu grazing silhouettes, %zu joint ties, "
-              "%zu mismatches, "
-              "%zu occlusion mismatches\n",
-              later ? "moving shapes" : "shapes", rays.size(), hits[0], hits[1], grazing, joints, mismatched,
-              occlusionMismatched);
-  EXPECT_GT(hits[0], rays.size() / 10);
-  EXPECT_EQ(mismatched, 0u) << firstMismatch;
-  EXPECT_EQ(occlusionMismatched, 0u) << firstMismatch;
+    if (h.geomID == 0) return std::fabs(silhouetteMargin(ray, placed.spheres[h.primID], nullptr)) < 1e-4;
+    const uint32_t first = data.segments[h.primID];
+    return std::fabs(silhouetteMargin(ray, placed.curveVertices[first], &placed.curveVertices[first + 1])) < 1e-3;
+  };
+  // A ray through the joint of two consecutive segments hits both at the same depth (u = 1 on
+  // the first, u = 0 on the second): either is right, and the traversal order picks one.
+  rules.jointTie = [&](const RTCRayHit& embree, const RTCRayHit& obvh) {
+    const RTCHit &e = embree.hit, &o = obvh.hit;
+    const float te = embree.ray.tfar, to = obvh.ray.tfar;
+    if (e.geomID != 1 || o.geomID != 1 || std::fabs(te - to) > 1e-5f * std::max(1.f, te)) return false;
+    const RTCHit& first = e.primID < o.primID ? e : o;
+    const RTCHit& second = e.primID < o.primID ? o : e;
+    return data.segments[second.primID] == data.segments[first.primID] + 1 && first.u == 1.f && second.u == 0.f;
+  };
+  rules.uTolerance = 2e-3f;
+  expectSameShapeAnswers(later ? "moving shapes" : "shapes", compareShapeAnswers(reference, candidate, rays, rules),
+                         rays.size(), rays.size() / 10);
   libs.embree->rtcReleaseScene(reference);
   libs.obvh->rtcReleaseScene(candidate);
 }

@@ -1,0 +1,37 @@
+// Round cubic curves (Embree's RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE, _ROUND_BSPLINE_CURVE and
+// _ROUND_CATMULL_ROM_CURVE), with the conventions measured on Debian's Embree:
+// - the surface is swept by circles of the interpolated radius r(u) centred on the curve p(u), each
+//   in the plane perpendicular to the tangent p'(u); its ends are open (no caps);
+// - a hit reports u (the segment's own curve parameter), v = 0 and
+//   Ng = |p'(u)|^2 (hit - p(u)) / r(u) - r'(u) p'(u), unnormalized as Embree returns it;
+// - rays starting inside the tube see its wall; no self-intersection rule.
+// Every basis is turned into Bezier control points (exact in double) and intersected in double
+// precision: the curve is cut in halves while the ray can meet a piece's bounds, and each remaining
+// piece's hits are bracketed along the ray and polished with Newton's method.
+#pragma once
+
+#include "intersect/ray.h"
+#include "intersect/shapes.h"
+#include "math/vec3.h"
+
+namespace obvh {
+
+// Cubic Bezier control points with radii.
+struct CubicBezier {
+  ShapeVertex p[4];
+};
+
+enum class CurveBasis { Bezier, BSpline, CatmullRom };
+
+// The Bezier form of the segment whose four control vertices are v (for B-splines and Catmull-Rom
+// curves the segment between v[1] and v[2]).
+CubicBezier bezierOf(CurveBasis basis, const ShapeVertex v[4]);
+
+// Holds the whole tube: the control points' box widened by the largest radius (the curve and its
+// radius stay inside their control points' convex hull).
+Box3f roundCurveBounds(const CubicBezier& curve);
+
+// The nearest hit in [ray.tnear, ray.tfar], if any.
+bool intersectRoundCurve(const Ray& ray, const CubicBezier& curve, ShapeHit& hit);
+
+}  // namespace obvh
