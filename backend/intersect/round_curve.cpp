@@ -63,52 +63,62 @@ struct Solver {
   double bestS = std::numeric_limits<double>::infinity();
   double bestU = 0.0;
 
-  // How far the ray's point X = (0, 0, s) lies outside the piece [u0, u1] of the tube: |X - p| - r
-  // at the piece's point nearest to X, where the slope of the squared distance, -(X - p) . p',
-  // changes sign (found by Newton's method kept inside a shrinking bracket, from u, updated). When
-  // the slope does not change sign, X lies beyond the plane of an end circle, outside the piece
+  // A piece [u0, u1] of the segment with its end points, which every ray point is compared with.
+  struct Piece {
+    double u0, u1;
+    CurvePoint start, end;
+  };
+
+  // How far the ray's point X = (0, 0, s) lies outside the piece of the tube: |X - p| - r at the
+  // piece's point nearest to X, where the slope of the squared distance, -(X - p) . p', changes
+  // sign (found by Newton's method kept inside a shrinking bracket, from u, updated). When the
+  // slope does not change sign, X lies beyond the plane of an end circle, outside the piece
   // (beyond the tube's open end, or in the next piece's stretch): then its distance to that plane
   // counts, so that no end cap appears.
-  double outside(double s, double u0, double u1, double& u) const {
-    const auto at = [&](double where, double& slope, double& speed) {
-      const CurvePoint e = evaluate(curve, where);
-      const double w[3] = {-e.p[0], -e.p[1], s - e.p[2]};
-      slope = -dot3(w, e.dp);
-      speed = std::sqrt(dot3(e.dp, e.dp));
-      return std::sqrt(dot3(w, w)) - e.r;
+  double outside(double s, const Piece& piece, double& u) const {
+    const auto slopeAt = [&](const CurvePoint& e) {
+      return e.p[0] * e.dp[0] + e.p[1] * e.dp[1] - (s - e.p[2]) * e.dp[2];
     };
-    double slope, speed;
-    const double atStart = at(u0, slope, speed);
-    if (slope >= 0.0) {
-      u = u0;
-      return std::max(atStart, speed > 0.0 ? slope / speed : 0.0);
+    const auto distanceTo = [&](const CurvePoint& e) {
+      return std::sqrt(e.p[0] * e.p[0] + e.p[1] * e.p[1] + (s - e.p[2]) * (s - e.p[2])) - e.r;
+    };
+    const auto beyondEnd = [&](const CurvePoint& e, double slope) {
+      const double speed = std::sqrt(dot3(e.dp, e.dp));
+      return std::max(distanceTo(e), speed > 0.0 ? std::fabs(slope) / speed : 0.0);
+    };
+    const double startSlope = slopeAt(piece.start);
+    if (startSlope >= 0.0) {
+      u = piece.u0;
+      return beyondEnd(piece.start, startSlope);
     }
-    const double atEnd = at(u1, slope, speed);
-    if (slope <= 0.0) {
-      u = u1;
-      return std::max(atEnd, speed > 0.0 ? -slope / speed : 0.0);
+    const double endSlope = slopeAt(piece.end);
+    if (endSlope <= 0.0) {
+      u = piece.u1;
+      return beyondEnd(piece.end, endSlope);
     }
-    double lo = u0, hi = u1;
+    double lo = piece.u0, hi = piece.u1;
     u = std::clamp(u, lo, hi);
-    for (int iteration = 0; iteration < 64 && hi - lo > 1e-15; ++iteration) {
-      const CurvePoint e = evaluate(curve, u);
+    CurvePoint e = evaluate(curve, u);
+    for (int iteration = 0; iteration < 64 && hi - lo > 1e-7 * (piece.u1 - piece.u0); ++iteration) {
+      const double slope = slopeAt(e);
+      if (slope == 0.0) break;
+      (slope < 0.0 ? lo : hi) = u;
       const double w[3] = {-e.p[0], -e.p[1], s - e.p[2]};
-      const double slopeHere = -dot3(w, e.dp), curvature = dot3(e.dp, e.dp) - dot3(w, e.ddp);
-      if (slopeHere == 0.0) break;
-      (slopeHere < 0.0 ? lo : hi) = u;
-      const double newton = curvature > 0.0 ? u - slopeHere / curvature : lo - 1.0;
+      const double curvature = dot3(e.dp, e.dp) - dot3(w, e.ddp);
+      const double newton = curvature > 0.0 ? u - slope / curvature : lo - 1.0;
       const double next = newton > lo && newton < hi ? newton : 0.5 * (lo + hi);
-      const bool done = std::fabs(next - u) <= 1e-15;
+      const bool done = std::fabs(next - u) <= 1e-7 * (piece.u1 - piece.u0);
       u = next;
+      e = evaluate(curve, u);
       if (done) break;
     }
-    return at(u, slope, speed);
+    return distanceTo(e);
   }
 
-  // Polishes a root bracketed to high precision with Newton's method on both conditions,
+  // Polishes a root bracketed closely with Newton's method on both conditions,
   // F1 = (X - p) . p' = 0 (X lies in the plane of the circle at u) and F2 = |X - p|^2 - r^2 = 0,
   // and keeps it if it is a root.
-  void polish(double u, double s) {
+  void polish(double u, double s, double radius) {
     for (int iteration = 0; iteration < 8; ++iteration) {
       const CurvePoint e = evaluate(curve, u);
       const double w[3] = {-e.p[0], -e.p[1], s - e.p[2]};
@@ -118,7 +128,7 @@ struct Solver {
       const double det = j11 * j22 - j12 * j21;
       if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) break;
       const double du = (f1 * j22 - f2 * j12) / det, ds = (j11 * f2 - j21 * f1) / det;
-      if (std::fabs(du) > 1e-6 || std::fabs(ds) > 1e-6 * scale) break;  // a polish, not a search
+      if (std::fabs(du) > 1e-3 || std::fabs(ds) > 1e-4 * radius) break;  // a polish, not a search
       u -= du, s -= ds;
       if (std::fabs(du) <= 1e-15 && std::fabs(ds) <= 1e-15 * scale) break;
     }
@@ -140,28 +150,32 @@ struct Solver {
 
   // The ray's hits on the tube around the piece [u0, u1], short and nearly straight: along the ray,
   // how far outside the tube the ray's point lies falls and rises once; where it is least is
-  // found by golden-section search, and the crossings before and after it by bisection.
-  void solvePiece(double u0, double u1, double depthLow, double depthHigh) {
+  // found by golden-section search, and the crossings before and after it by bisection, close
+  // enough for Newton's method to finish them. That distance changes by at most `lipschitz` per
+  // unit along the ray (1, plus the radius' slope), which ends the search for rays that pass by.
+  void solvePiece(double u0, double u1, double depthLow, double depthHigh, double radius, double lipschitz) {
     const double low = std::max(sNear, depthLow), high = std::min({sFar, bestS, depthHigh});
     if (!(low <= high)) return;
+    const Piece piece{u0, u1, evaluate(curve, u0), evaluate(curve, u1)};
     double u = 0.5 * (u0 + u1);
     constexpr double kGolden = 0.6180339887498949;
     double a = low, b = high;
     double c = b - kGolden * (b - a), d = a + kGolden * (b - a);
     double uc = u, ud = u;
-    double fc = outside(c, u0, u1, uc), fd = outside(d, u0, u1, ud);
-    for (int iteration = 0; iteration < 48 && b - a > 1e-9 * scale; ++iteration) {
-      if (fc < 0.0 || fd < 0.0) break;  // inside somewhere: that bounds both crossings
+    double fc = outside(c, piece, uc), fd = outside(d, piece, ud);
+    for (int iteration = 0; iteration < 64 && b - a > 1e-9 * scale; ++iteration) {
+      if (fc < 0.0 || fd < 0.0) break;                      // inside somewhere: that bounds both crossings
+      if (std::min(fc, fd) > lipschitz * (b - a)) return;  // outside all along
       if (fc <= fd) {
         b = d, d = c, fd = fc, ud = uc;
         c = b - kGolden * (b - a);
         uc = ud;
-        fc = outside(c, u0, u1, uc);
+        fc = outside(c, piece, uc);
       } else {
         a = c, c = d, fc = fd, uc = ud;
         d = a + kGolden * (b - a);
         ud = uc;
-        fd = outside(d, u0, u1, ud);
+        fd = outside(d, piece, ud);
       }
     }
     const double inside = fc <= fd ? c : d;
@@ -169,19 +183,47 @@ struct Solver {
     if (std::min(fc, fd) > 0.0) return;
     // Crossings: from low (outside, unless the ray starts inside) to inside, and from inside to high.
     const auto crossing = [&](double from, double to) {
-      double uFrom = uInside, uTo = uInside;
-      if (!(outside(from, u0, u1, uFrom) > 0.0)) return;
-      double out = from, in = to, uIn = uTo;
-      for (int iteration = 0; iteration < 64 && std::fabs(in - out) > 1e-12 * scale; ++iteration) {
-        const double mid = 0.5 * (out + in);
-        double uMid = uIn;
-        if (outside(mid, u0, u1, uMid) > 0.0) out = mid;
-        else in = mid, uIn = uMid;
+      double uOut = uInside;
+      double fOut = outside(from, piece, uOut);
+      if (!(fOut > 0.0)) return;
+      // Regula falsi, Illinois variant: the distance is smooth across the wall.
+      double out = from, in = to, uIn = uInside, fIn = std::min(fc, fd);
+      int side = 0;
+      for (int iteration = 0; iteration < 64 && std::fabs(in - out) > 1e-6 * radius; ++iteration) {
+        double next = out - fOut * (in - out) / (fIn - fOut);
+        if (!(next != out && next != in && (next - out) * (next - in) < 0.0)) next = 0.5 * (out + in);
+        double uNext = uIn;
+        const double f = outside(next, piece, uNext);
+        if (f > 0.0) {
+          out = next, fOut = f;
+          if (side == 1) fIn *= 0.5;
+          side = 1;
+        } else {
+          in = next, fIn = f, uIn = uNext;
+          if (side == -1) fOut *= 0.5;
+          side = -1;
+        }
       }
-      polish(uIn, in);
+      polish(uIn, in, radius);
     };
     crossing(low, inside);
     crossing(high, inside);
+  }
+
+  // Whether the ray (the z axis) passes farther than radius from the piece's control points'
+  // convex hull, seen along the ray: that hull lies within the largest distance of the inner
+  // control points from the chord of the chord itself.
+  static bool passesBeside(const Controls& piece, double radius) {
+    const auto distanceToChord = [&](double x, double y) {
+      const double cx = piece[3].x[0] - piece[0].x[0], cy = piece[3].x[1] - piece[0].x[1];
+      const double ox = x - piece[0].x[0], oy = y - piece[0].x[1];
+      const double cc = cx * cx + cy * cy;
+      const double f = cc > 0.0 ? std::clamp((ox * cx + oy * cy) / cc, 0.0, 1.0) : 0.0;
+      return std::hypot(ox - f * cx, oy - f * cy);
+    };
+    const double spread = std::max(distanceToChord(piece[1].x[0], piece[1].x[1]),
+                                   distanceToChord(piece[2].x[0], piece[2].x[1]));
+    return distanceToChord(0.0, 0.0) > radius + spread;
   }
 
   // Halves the piece while the ray can meet its bounds; small enough pieces are solved.
@@ -194,6 +236,7 @@ struct Solver {
     }
     if (lower[0] > radius || upper[0] < -radius || lower[1] > radius || upper[1] < -radius) return;
     if (lower[2] - radius > std::min(sFar, bestS) || upper[2] + radius < sNear) return;
+    if (passesBeside(piece, radius)) return;
     // Flat enough for the cylinder's starting points: the inner control points lie close to the chord.
     double bend = 0.0;
     const double chord[3] = {piece[3].x[0] - piece[0].x[0], piece[3].x[1] - piece[0].x[1], piece[3].x[2] - piece[0].x[2]};
@@ -207,7 +250,13 @@ struct Solver {
     // And short: within a piece no longer than its radius the tube has at most the two walls a
     // cylinder has, even where it bends tighter than its radius and overlaps itself.
     const bool small = bend <= 0.125 * radius && cc <= radius * radius;
-    if (depth >= 12 || (depth >= 2 && small)) return solvePiece(u0, u1, lower[2] - radius, upper[2] + radius);
+    if (depth >= 12 || (depth >= 2 && small)) {
+      double radiusStep = 0.0;
+      for (int i = 0; i < 3; ++i) radiusStep = std::max(radiusStep, std::fabs(piece[i + 1].r - piece[i].r));
+      // The radius changes by at most 3 radiusStep over the piece, about a chord long (doubled, to be safe).
+      const double lipschitz = cc > 0.0 ? 1.0 + 6.0 * radiusStep / std::sqrt(cc) : 1e300;
+      return solvePiece(u0, u1, lower[2] - radius, upper[2] + radius, radius, lipschitz);
+    }
     Controls left, right;
     halve(piece, left, right);
     const double mid = 0.5 * (u0 + u1);
