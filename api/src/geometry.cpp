@@ -207,9 +207,8 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
   markModified();
 }
 
-void Geometry::setTessellationRate(float rate) {
+void Geometry::setTessellationRate(float) {
   if (!isCurve()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
-  tessellationRate_ = std::clamp(rate, 1.f, 16.f);
 }
 
 void* Geometry::bufferData(int type, unsigned slot) { return view(type, slot).data(); }

@@ -110,9 +110,10 @@ class Geometry : public RefCounted {
            type_ == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
   }
   bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
-  // Curves: Embree keeps a tessellation rate (1..16) and a flags buffer for every curve type, but
-  // only flat cubic curves (tessellation) and round linear curves (flags) read them, neither of
-  // which obvh implements: accepted and kept, as Embree does, and never read.
+  // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
+  // cubic curves (tessellation) and round linear curves (flags) read them, neither of which obvh
+  // implements. Both are accepted as Embree accepts them; the flags buffer is kept (the application
+  // may read it back), the rate is only checked, as nothing reads it.
   void setTessellationRate(float rate);
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
   const BufferView& attributeBuffer(unsigned slot) const;
@@ -130,7 +131,6 @@ class Geometry : public RefCounted {
   std::vector<BufferView> vertices_;  // per time step (user geometry: one empty view per step)
   std::vector<BufferView> attributes_;
   BufferView flags_;  // curves
-  float tessellationRate_ = 4.f;
   unsigned mask_ = 0xFFFFFFFFu;
   int quality_ = RTC_BUILD_QUALITY_MEDIUM;
   bool enabled_ = true;

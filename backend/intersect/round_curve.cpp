@@ -150,7 +150,7 @@ struct Solver {
 
   // The ray's hits on the tube around the piece [u0, u1], short and nearly straight: along the ray,
   // how far outside the tube the ray's point lies falls and rises once; where it is least is
-  // found by golden-section search, and the crossings before and after it by bisection, close
+  // found by golden-section search, and the crossings before and after it by regula falsi, close
   // enough for Newton's method to finish them. That distance changes by at most `lipschitz` per
   // unit along the ray (1, plus the radius' slope), which ends the search for rays that pass by.
   void solvePiece(double u0, double u1, double depthLow, double depthHigh, double radius, double lipschitz) {
