@@ -104,11 +104,12 @@ class Geometry : public RefCounted {
     return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD || type_ == RTC_GEOMETRY_TYPE_GRID;
   }
   // Sphere points, flat linear curves and round cubic curves: float4 vertices (position and radius).
-  bool isShape() const {
-    return type_ == RTC_GEOMETRY_TYPE_SPHERE_POINT || type_ == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE ||
-           type_ == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type_ == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
-           type_ == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+  static bool isShapeType(int type) {
+    return type == RTC_GEOMETRY_TYPE_SPHERE_POINT || type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE ||
+           type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
+           type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
   }
+  bool isShape() const { return isShapeType(type_); }
   bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
   // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
   // cubic curves (tessellation) and round linear curves (flags) read them, neither of which obvh

@@ -56,10 +56,7 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgumen
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
     const bool implemented = type == RTC_GEOMETRY_TYPE_TRIANGLE || type == RTC_GEOMETRY_TYPE_QUAD ||
                              type == RTC_GEOMETRY_TYPE_GRID || type == RTC_GEOMETRY_TYPE_USER ||
-                             type == RTC_GEOMETRY_TYPE_INSTANCE || type == RTC_GEOMETRY_TYPE_SPHERE_POINT ||
-                             type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE || type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE ||
-                             type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
-                             type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+                             type == RTC_GEOMETRY_TYPE_INSTANCE || Geometry::isShapeType(type);
     if (!implemented)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
                                             " is not supported by obvh yet (triangles, quads, grids, user geometry, "
