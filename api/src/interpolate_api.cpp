@@ -14,6 +14,7 @@
 #include "api_error.h"
 #include "enum_bits.h"
 #include "geometry.h"
+#include "intersect/round_curve.h"
 
 using namespace obvh::api;
 
@@ -75,27 +76,13 @@ struct CurveWeights {
 };
 
 CurveWeights curveWeights(int type, float u) {
+  if (type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE) return {2, {1.f - u, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {}};
+  const obvh::CurveBasis basis = type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE    ? obvh::CurveBasis::Bezier
+                                 : type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ? obvh::CurveBasis::BSpline
+                                                                                 : obvh::CurveBasis::CatmullRom;
+  const obvh::CurveBasisWeights b = obvh::curveBasisWeights(basis, u);
   CurveWeights c;
-  const float s = 1.f - u, u2 = u * u, u3 = u2 * u;
-  switch (type) {
-    case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
-      c = {2, {s, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {0.f, 0.f, 0.f, 0.f}};
-      break;
-    case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE:
-      c = {4, {s * s * s, 3.f * s * s * u, 3.f * s * u2, u3},
-           {-3.f * s * s, 3.f * s * s - 6.f * s * u, 6.f * s * u - 3.f * u2, 3.f * u2},
-           {6.f * s, 6.f * u - 12.f * s, 6.f * s - 12.f * u, 6.f * u}};
-      break;
-    case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE:
-      c = {4, {s * s * s / 6.f, (3.f * u3 - 6.f * u2 + 4.f) / 6.f, (-3.f * u3 + 3.f * u2 + 3.f * u + 1.f) / 6.f, u3 / 6.f},
-           {-0.5f * s * s, 1.5f * u2 - 2.f * u, -1.5f * u2 + u + 0.5f, 0.5f * u2},
-           {s, 3.f * u - 2.f, -3.f * u + 1.f, u}};
-      break;
-    default:  // Catmull-Rom
-      c = {4, {0.5f * (-u3 + 2.f * u2 - u), 0.5f * (3.f * u3 - 5.f * u2 + 2.f), 0.5f * (-3.f * u3 + 4.f * u2 + u), 0.5f * (u3 - u2)},
-           {0.5f * (-3.f * u2 + 4.f * u - 1.f), 0.5f * (9.f * u2 - 10.f * u), 0.5f * (-9.f * u2 + 8.f * u + 1.f), 0.5f * (3.f * u2 - 2.f * u)},
-           {-3.f * u + 2.f, 9.f * u - 5.f, -9.f * u + 4.f, 3.f * u - 1.f}};
-  }
+  for (int k = 0; k < 4; ++k) c.w[k] = float(b.w[k]), c.dw[k] = float(b.dw[k]), c.ddw[k] = float(b.ddw[k]);
   return c;
 }
 

@@ -27,6 +27,13 @@ enum class CurveBasis { Bezier, BSpline, CatmullRom };
 // curves the segment between v[1] and v[2]).
 CubicBezier bezierOf(CurveBasis basis, const ShapeVertex v[4]);
 
+// The weights of a segment's four control vertices at u in the basis, with their first and
+// second derivatives in u (for interpolating values along the segment).
+struct CurveBasisWeights {
+  double w[4], dw[4], ddw[4];
+};
+CurveBasisWeights curveBasisWeights(CurveBasis basis, double u);
+
 // Holds the whole tube: the control points' box widened by the largest radius (the curve and its
 // radius stay inside their control points' convex hull).
 Box3f roundCurveBounds(const CubicBezier& curve);
