@@ -1,7 +1,9 @@
 // Four-lane float vector on SSE intrinsics; mirrors FloatScalar<4> (float_scalar.h).
 #pragma once
 
+#include <cstdint>
 #include <emmintrin.h>
+#include <smmintrin.h>
 
 namespace obvh::simd {
 
@@ -36,6 +38,19 @@ struct Float4Sse {
   friend int lessEqualMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v)); }
   friend int lessMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)); }
   friend int equalMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v)); }
+  // See FloatScalar::maxOfBits. SSE4.1 instructions: only the SSE4.2 and AVX2 kernels call them.
+  __attribute__((target("sse4.1"))) friend Float4Sse maxOfBits(Float4Sse a, Float4Sse b) {
+    return {_mm_castsi128_ps(_mm_max_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))};
+  }
+  __attribute__((target("sse4.1"))) friend Float4Sse minOfBits(Float4Sse a, Float4Sse b) {
+    return {_mm_castsi128_ps(_mm_min_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))};
+  }
+  friend Float4Sse bitsPlus(Float4Sse a, int32_t k) {
+    return {_mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a.v), _mm_set1_epi32(k)))};
+  }
+  friend int bitsLessEqualMask(Float4Sse a, Float4Sse b) {
+    return ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))) & 15;
+  }
   // See FloatScalar::minOfLanes.
   friend float minOfLanes(Float4Sse a, int mask) {
     const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);

@@ -38,6 +38,19 @@ struct Float8Avx {
   OBVH_AVX2 friend int lessEqualMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }
   OBVH_AVX2 friend int lessMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)); }
   OBVH_AVX2 friend int equalMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)); }
+  // See FloatScalar::maxOfBits.
+  OBVH_AVX2 friend Float8Avx maxOfBits(Float8Avx a, Float8Avx b) {
+    return {_mm256_castsi256_ps(_mm256_max_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};
+  }
+  OBVH_AVX2 friend Float8Avx minOfBits(Float8Avx a, Float8Avx b) {
+    return {_mm256_castsi256_ps(_mm256_min_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};
+  }
+  OBVH_AVX2 friend Float8Avx bitsPlus(Float8Avx a, int32_t k) {
+    return {_mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(a.v), _mm256_set1_epi32(k)))};
+  }
+  OBVH_AVX2 friend int bitsLessEqualMask(Float8Avx a, Float8Avx b) {
+    return ~_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))) & 255;
+  }
   // Lane i of the result is lane slots[i] of table (slots: eight indices 0..7, 32-byte aligned).
   OBVH_AVX2 friend Float8Avx lanesAt(Float8Avx table, const int32_t* slots) {
     return {_mm256_permutevar8x32_ps(table.v, _mm256_load_si256(reinterpret_cast<const __m256i*>(slots)))};

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace obvh::simd {
@@ -59,6 +61,36 @@ struct FloatScalar {
   friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
   friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }
   friend int equalMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x == y; }); }
+  // The lanes' bit patterns as signed integers: ordered as the floats are among non-negative floats,
+  // and every negative float (or -0, or NaN with the sign bit) below them. A box test whose entry
+  // distances include a non-negative tnear can therefore take its maximum and minimum with integer
+  // instructions (one cycle each, where float min/max take four).
+  static int32_t bitsOf(float x) {
+    int32_t i;
+    std::memcpy(&i, &x, sizeof i);
+    return i;
+  }
+  static float floatOf(int32_t i) {
+    float x;
+    std::memcpy(&x, &i, sizeof x);
+    return x;
+  }
+  friend FloatScalar maxOfBits(FloatScalar a, FloatScalar b) {
+    return map(a, b, [](float x, float y) { return bitsOf(x) > bitsOf(y) ? x : y; });
+  }
+  friend FloatScalar minOfBits(FloatScalar a, FloatScalar b) {
+    return map(a, b, [](float x, float y) { return bitsOf(x) < bitsOf(y) ? x : y; });
+  }
+  // Adds k to each lane's bit pattern: k ulps up for a non-negative float, toward zero for a
+  // negative one (wrapping as the SIMD integer add does).
+  friend FloatScalar bitsPlus(FloatScalar a, int32_t k) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = floatOf(int32_t(uint32_t(bitsOf(a.v[i])) + uint32_t(k)));
+    return r;
+  }
+  friend int bitsLessEqualMask(FloatScalar a, FloatScalar b) {
+    return maskOf(a, b, [](float x, float y) { return bitsOf(x) <= bitsOf(y); });
+  }
   // The smallest of the lanes whose bit is set in mask, +inf when none is; those lanes must not be
   // NaN (the SIMD versions may then differ only in the sign of a zero).
   friend float minOfLanes(FloatScalar a, int mask) {

@@ -27,18 +27,25 @@ inline bool reciprocalUnusable(float inv) { return !(std::fabs(inv) <= std::nume
 
 template <typename FN>
 struct WideRayFrame {
-  FN org[3], invDir[3];
-  float inv[3];               // 1/dir per axis, as invDir holds it in every lane
+  // -1/dir: the slab distance (plane - org) * inv is computed as (org - plane) * negInv, the same
+  // float (negation is exact), so that the node's plane is the memory operand of the subtraction.
+  FN org[3], negInv[3];
+  FN tnear;
+  float inv[3];               // 1/dir per axis
   // The rows of WideNode::bounds holding each axis' entry plane (entryRow) as byte offsets; the
   // exit plane's is nearByte ^ (bytes of a row). Three offsets, where six row indices were
   // reloaded from the stack at every node.
   uint32_t nearByte[3];
   bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
+  // Every 1/dir finite and non-zero, and tnear +0 or positive: the node test may then reduce the
+  // slab distances as integers (see intersectWideNode); other rays take the float form.
+  bool bitOrdered;
 
   WideRayFrame() = default;
   // Always inlined: as a call (GCC kept it out of line) the frame went through memory.
   [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) : anyZero(false) {
+    tnear = FN::broadcast(ray.tnear);
     for (int axis = 0; axis < 3; ++axis) {
       zero[axis] = ray.dir[axis] == 0.f;
       // Without branches: a zero direction's 1/dir is inf (never read: such an axis takes the
@@ -47,34 +54,54 @@ struct WideRayFrame {
       inv[axis] = 1.f / ray.dir[axis];
       anyZero |= reciprocalUnusable(inv[axis]);
       org[axis] = FN::broadcast(ray.org[axis]);
-      invDir[axis] = FN::broadcast(inv[axis]);
+      negInv[axis] = FN::broadcast(-inv[axis]);
       // The slab distances of the planes entered and left first are the values the min/max form
       // picks, without computing both.
       const bool negative = ray.dir[axis] < 0.f;
       nearByte[axis] = uint32_t(entryRow(axis, negative)) * uint32_t(FN::kWidth * sizeof(float));
     }
+    bitOrdered = !anyZero && inv[0] != 0.f && inv[1] != 0.f && inv[2] != 0.f && !std::signbit(ray.tnear) &&
+                 ray.tnear <= std::numeric_limits<float>::max();
   }
 };
 
+// How far the integer form raises the exit distance, in ulps: at least the relative 2 * gamma(3)
+// of Ize's scaling (kConservativeFarScale), which is under 6 ulps of any float, with room to spare.
+// An integer add, where the float form multiplies.
+constexpr int32_t kConservativeFarUlps = 8;
+
 // Tests the node's child boxes; returns a bit mask of the entered ones and their entry distances.
-// A ray that does not move along an axis is inside that slab exactly when its origin lies within
-// [lower, upper] (inclusive), as in the scalar box test; the conservative far scaling is Ize's.
-template <typename FN, int N>
-inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tnear, float tfar,
-                             float entry[N]) {
-  FN nearT = FN::broadcast(tnear);
-  FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
-  int inside = (1 << N) - 1;
-  if (!r.anyZero) {
+// kBitOrdered: the frame's bitOrdered, decided once a ray (a separate walk), not at every node.
+// Then every slab distance is a float whose bit pattern orders as the float does when it is
+// non-negative, and below every non-negative one when it is negative, so that the maximum with
+// tnear (>= +0) and the minimum of the exits come out of integer max/min, the exit is raised by
+// adding ulps to its bits, and the compare is an integer one: one cycle each on the chain from
+// one node's load to the next, where the float forms take four (an unused lane's NaN bounds give
+// NaN distances of either sign: a positive one ends as the largest entry, a negative one as the
+// smallest exit, and the lane fails the compare either way). Otherwise a ray that does not move
+// along an axis is inside that slab exactly when its origin lies within [lower, upper]
+// (inclusive), as in the scalar box test, and the conservative far scaling is Ize's.
+template <bool kBitOrdered, typename FN, int N>
+[[gnu::always_inline]] inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tfar,
+                                                    float entry[N]) {
+  if constexpr (kBitOrdered) {
     static_assert(sizeof(node.bounds[0]) == N * sizeof(float) && (N & (N - 1)) == 0);
     const char* rows = reinterpret_cast<const char*>(node.bounds);
+    FN entryT[3], exitT[3];
     for (int axis = 0; axis < 3; ++axis) {
       const uint32_t nearByte = r.nearByte[axis], farByte = nearByte ^ uint32_t(N * sizeof(float));
-      // Operand order: a NaN (NaN ray or unused lane) lands in nearT/farT and fails the final compare.
-      nearT = max(nearT, (FN::load(reinterpret_cast<const float*>(rows + nearByte)) - r.org[axis]) * r.invDir[axis]);
-      farT = min(farT, (FN::load(reinterpret_cast<const float*>(rows + farByte)) - r.org[axis]) * r.invDir[axis]);
+      entryT[axis] = (r.org[axis] - FN::load(reinterpret_cast<const float*>(rows + nearByte))) * r.negInv[axis];
+      exitT[axis] = (r.org[axis] - FN::load(reinterpret_cast<const float*>(rows + farByte))) * r.negInv[axis];
     }
+    const FN nearT = maxOfBits(maxOfBits(entryT[0], entryT[1]), maxOfBits(r.tnear, entryT[2]));
+    const FN farT = minOfBits(bitsPlus(minOfBits(minOfBits(exitT[0], exitT[1]), exitT[2]), kConservativeFarUlps),
+                              FN::broadcast(tfar));
+    nearT.store(entry);
+    return bitsLessEqualMask(nearT, farT);
   } else {
+    FN nearT = r.tnear;
+    FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
+    int inside = (1 << N) - 1;
     for (int axis = 0; axis < 3; ++axis) {
       const FN lower = FN::load(node.bounds[axis * 2]);
       const FN upper = FN::load(node.bounds[axis * 2 + 1]);
@@ -82,15 +109,16 @@ inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r,
         inside &= lessEqualMask(lower, r.org[axis]) & lessEqualMask(r.org[axis], upper);
         continue;
       }
-      const FN t0 = (lower - r.org[axis]) * r.invDir[axis];
-      const FN t1 = (upper - r.org[axis]) * r.invDir[axis];
+      // Operand order: a NaN (NaN ray or unused lane) lands in nearT/farT and fails the compare.
+      const FN t0 = (r.org[axis] - lower) * r.negInv[axis];
+      const FN t1 = (r.org[axis] - upper) * r.negInv[axis];
       nearT = max(nearT, min(t0, t1));
       farT = min(farT, max(t0, t1));
     }
+    farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
+    nearT.store(entry);
+    return lessEqualMask(nearT, farT) & inside;
   }
-  farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
-  nearT.store(entry);
-  return lessEqualMask(nearT, farT) & inside;
 }
 
 // Children are visited one after the other; loading the next ones' first cache lines early
@@ -112,13 +140,14 @@ template <typename FN>
 }
 
 // The axis-aligned layouts' nodes as the shared walk (wide_walk.h) sees them.
-template <typename FN>
+template <typename FN, bool kBitOrdered>
 struct AxisAlignedWideNodes {
   const TriangleWideView<FN::kWidth>& bvh;
   const WideRayFrame<FN>& frame;
   const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
-  [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
-    return intersectWideNode(bvh.nodes[node], frame, tnear, tfar, entry);
+  [[gnu::always_inline]] int enter(uint32_t node, float /*tnear: the frame's*/, float tfar,
+                                   float entry[FN::kWidth]) const {
+    return intersectWideNode<kBitOrdered>(bvh.nodes[node], frame, tfar, entry);
   }
   [[gnu::always_inline]] void prefetch(uint32_t child) const { prefetchChild<FN>(bvh, child); }
   void count(uint32_t, TraversalCounters& counters) const { counters.aabbTests += FN::kWidth; }
@@ -130,8 +159,12 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
-  walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN>{bvh, frame}, start, ray, leafVisitor,
-                                                        counters);
+  if (frame.bitOrdered)
+    walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN, true>{bvh, frame}, start, ray,
+                                                          leafVisitor, counters);
+  else
+    walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN, false>{bvh, frame}, start, ray,
+                                                          leafVisitor, counters);
 }
 
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>

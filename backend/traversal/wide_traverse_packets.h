@@ -17,13 +17,14 @@ namespace obvh {
 
 // A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
 // their direction signs and move along every axis: one child box is then tested against a whole
-// group with the same per-ray operations as intersectWideNode (near/far planes chosen by sign,
-// (plane - org) * invDir, the same max/min order), so every box decision stays the single ray's.
+// group with the same per-ray operations as intersectWideNode's integer form (near/far planes chosen
+// by sign, (org - plane) * -1/dir, the same max/min order), so every box decision stays the single
+// ray's.
 template <typename FN>
 struct PacketLanes {
   static constexpr int kLanes = FN::kWidth;
   alignas(32) float org[3][kMaxPacketSize];
-  alignas(32) float invDir[3][kMaxPacketSize];
+  alignas(32) float negInvDir[3][kMaxPacketSize];  // -1/dir, as WideRayFrame::negInv
   alignas(32) float tnear[kMaxPacketSize];
   alignas(32) float tfar[kMaxPacketSize];  // kept equal to the rays' tfar as hits shrink it
   int nearRow[3] = {}, farRow[3] = {};
@@ -63,10 +64,12 @@ struct PacketLanes {
       tn.store(tnear + base);
       lanes([](const Ray& r) { return r.tfar; }, -std::numeric_limits<float>::infinity()).store(tfar + base);
       if (on == 0) {
-        for (int axis = 0; axis < 3; ++axis) zero.store(org[axis] + base), zero.store(invDir[axis] + base);
+        for (int axis = 0; axis < 3; ++axis) zero.store(org[axis] + base), zero.store(negInvDir[axis] + base);
         continue;
       }
-      if ((equalMask(tn, tn) & on) != on) return;
+      // The rays' box tests take the integer form of the single ray's (intersectWideNode), which
+      // needs tnear +0 or positive and 1/dir finite and non-zero; other rays go alone.
+      if ((bitsLessEqualMask(zero, tn) & lessEqualMask(tn, largest) & on) != on) return;
       tnearLow = std::min(tnearLow, minOfLanes(tn, on));
       for (int axis = 0; axis < 3; ++axis) {
         const FN o = lanes([axis](const Ray& r) { return r.org[axis]; }, 0.f);
@@ -74,9 +77,9 @@ struct PacketLanes {
         if ((equalMask(o, o) & on) != on) return;
         const FN inv = one / d;  // idle lanes: 1 / inf = 0
         // reciprocalUnusable: not finite (NaN fails both comparisons).
-        if ((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & on) != on) return;
+        if ((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero) & on) != on) return;
         o.store(org[axis] + base);
-        inv.store(invDir[axis] + base);
+        (zero - inv).store(negInvDir[axis] + base);
         negative[axis] |= (lessMask(d, zero) & on) << base;
         orgLow[axis] = std::min(orgLow[axis], minOfLanes(o, on));
         orgHigh[axis] = std::max(orgHigh[axis], maxOfLanes(o));
@@ -118,7 +121,7 @@ struct PacketLanes {
       const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
       farHigh = min(farHigh, max(df * invBounds[axis][0], df * invBounds[axis][1]));
     }
-    farHigh = min(farHigh * FN::broadcast(kConservativeFarScale), FN::broadcast(tfarHigh));
+    farHigh = min(bitsPlus(farHigh, kConservativeFarUlps), FN::broadcast(tfarHigh));
     return lessEqualMask(nearLow, farHigh);
   }
 
@@ -136,19 +139,19 @@ struct PacketLanes {
       if (groupRays == 0) continue;
       const int base = g * kLanes;
       const FN o[3] = {FN::load(org[0] + base), FN::load(org[1] + base), FN::load(org[2] + base)};
-      const FN inv[3] = {FN::load(invDir[0] + base), FN::load(invDir[1] + base), FN::load(invDir[2] + base)};
+      const FN negInv[3] = {FN::load(negInvDir[0] + base), FN::load(negInvDir[1] + base), FN::load(negInvDir[2] + base)};
       const FN tnearLanes = FN::load(tnear + base), tfarLanes = FN::load(tfar + base);
-      const FN farScale = FN::broadcast(kConservativeFarScale);
       for (int candidates = candidateChildren; candidates; candidates &= candidates - 1) {
         const int c = __builtin_ctz(unsigned(candidates));
-        FN nearT = tnearLanes;
-        FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
+        FN entryT[3], exitT[3];
         for (int axis = 0; axis < 3; ++axis) {
-          nearT = max(nearT, (FN::broadcast(node.bounds[nearRow[axis]][c]) - o[axis]) * inv[axis]);
-          farT = min(farT, (FN::broadcast(node.bounds[farRow[axis]][c]) - o[axis]) * inv[axis]);
+          entryT[axis] = (o[axis] - FN::broadcast(node.bounds[nearRow[axis]][c])) * negInv[axis];
+          exitT[axis] = (o[axis] - FN::broadcast(node.bounds[farRow[axis]][c])) * negInv[axis];
         }
-        farT = min(farT * farScale, tfarLanes);
-        const uint32_t in = uint32_t(lessEqualMask(nearT, farT)) & groupRays;
+        const FN nearT = maxOfBits(maxOfBits(entryT[0], entryT[1]), maxOfBits(tnearLanes, entryT[2]));
+        const FN farT =
+            minOfBits(bitsPlus(minOfBits(minOfBits(exitT[0], exitT[1]), exitT[2]), kConservativeFarUlps), tfarLanes);
+        const uint32_t in = uint32_t(bitsLessEqualMask(nearT, farT)) & groupRays;
         if (in == 0) continue;
         if constexpr (kOrdered) childEntry[c] = std::min(childEntry[c], minOfLanes(nearT, int(in)));
         childRays[c] |= in << base;
