@@ -9,13 +9,15 @@ namespace obvh {
 
 constexpr uint32_t kInvalidId = 0xFFFFFFFFu;
 
+// Laid out as the first 40 bytes of Embree's RTCRay (org, tnear, dir, time, tfar, mask), so that the
+// API takes a single ray over as one copy (api/src/query_dispatch.h checks the offsets).
 struct Ray {
   Vec3f org;
-  Vec3f dir;
   float tnear = 0.f;  // hits must lie strictly beyond tnear
+  Vec3f dir;
+  float time = 0.f;   // in the shutter interval: where motion-blurred geometry is seen
   float tfar = 0.f;   // hits may lie at tfar; shrinks to the closest hit found so far
   uint32_t mask = 0xFFFFFFFFu;
-  float time = 0.f;   // in the shutter interval: where motion-blurred geometry is seen
 };
 
 struct Hit {
