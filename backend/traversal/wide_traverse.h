@@ -38,8 +38,9 @@ struct WideRayFrame {
   uint32_t nearByte[3];
   bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   bool zero[3];
-  // Every 1/dir finite and non-zero, and tnear +0 or positive: the node test may then reduce the
-  // slab distances as integers (see intersectWideNode); other rays take the float form.
+  // tnear +0 or positive, and along every axis 1/dir finite and non-zero or the direction exactly
+  // zero: the node test may then reduce the slab distances as integers (see intersectWideNode);
+  // other rays (denormal or infinite directions, negative or NaN tnear) take the float form.
   bool bitOrdered;
 
   WideRayFrame() = default;
@@ -57,11 +58,16 @@ struct WideRayFrame {
       negInv[axis] = FN::broadcast(-inv[axis]);
       // The slab distances of the planes entered and left first are the values the min/max form
       // picks, without computing both.
-      const bool negative = ray.dir[axis] < 0.f;
+      // The sign bit, so that a direction of -0 takes the planes of a negative one (the integer
+      // forms' zero axes rely on it; rays moving along the axis see no difference).
+      const bool negative = std::signbit(ray.dir[axis]);
       nearByte[axis] = uint32_t(entryRow(axis, negative)) * uint32_t(FN::kWidth * sizeof(float));
     }
-    bitOrdered = !anyZero && inv[0] != 0.f && inv[1] != 0.f && inv[2] != 0.f && !std::signbit(ray.tnear) &&
-                 ray.tnear <= std::numeric_limits<float>::max();
+    // A ray that moves along no axis has no slab to reject an unused lane (see intersectWideNode).
+    bitOrdered = !std::signbit(ray.tnear) && ray.tnear <= std::numeric_limits<float>::max() &&
+                 !(zero[0] && zero[1] && zero[2]);
+    for (int axis = 0; axis < 3; ++axis)
+      bitOrdered &= zero[axis] || (!reciprocalUnusable(inv[axis]) && inv[axis] != 0.f);
   }
 };
 
@@ -70,21 +76,36 @@ struct WideRayFrame {
 // An integer add, where the float form multiplies.
 constexpr int32_t kConservativeFarUlps = 8;
 
+// Which form of the node test a ray takes, decided once a ray (each a separate walk), not at every
+// node.
+enum class NodeTestForm {
+  kBits,           // the frame is bitOrdered and the ray moves along every axis
+  kBitsZeroAxes,   // bitOrdered, with axes along which the ray does not move (orthographic views)
+  kFloat,          // the rest
+};
+
+template <typename FN>
+NodeTestForm nodeTestFormOf(const WideRayFrame<FN>& frame) {
+  if (!frame.bitOrdered) return NodeTestForm::kFloat;
+  return frame.anyZero ? NodeTestForm::kBitsZeroAxes : NodeTestForm::kBits;
+}
+
 // Tests the node's child boxes; returns a bit mask of the entered ones and their entry distances.
-// kBitOrdered: the frame's bitOrdered, decided once a ray (a separate walk), not at every node.
+// kForm: see NodeTestForm.
 // Then every slab distance is a float whose bit pattern orders as the float does when it is
 // non-negative, and below every non-negative one when it is negative, so that the maximum with
 // tnear (>= +0) and the minimum of the exits come out of integer max/min, the exit is raised by
 // adding ulps to its bits, and the compare is an integer one: one cycle each on the chain from
 // one node's load to the next, where the float forms take four (an unused lane's NaN bounds give
 // NaN distances of either sign: a positive one ends as the largest entry, a negative one as the
-// smallest exit, and the lane fails the compare either way). Otherwise a ray that does not move
-// along an axis is inside that slab exactly when its origin lies within [lower, upper]
-// (inclusive), as in the scalar box test, and the conservative far scaling is Ize's.
-template <bool kBitOrdered, typename FN, int N>
+// smallest exit, and the lane fails the compare either way). In the float form a ray that does not
+// move along an axis is inside that slab exactly when its origin lies within [lower, upper]
+// (inclusive), as in the scalar box test; the integer form with zero axes gets the same slabs from
+// infinite distances (below). The float form's conservative far scaling is Ize's.
+template <NodeTestForm kForm, typename FN, int N>
 [[gnu::always_inline]] inline int intersectWideNode(const WideNode<N>& node, const WideRayFrame<FN>& r, float tfar,
                                                     float entry[N]) {
-  if constexpr (kBitOrdered) {
+  if constexpr (kForm != NodeTestForm::kFloat) {
     static_assert(sizeof(node.bounds[0]) == N * sizeof(float) && (N & (N - 1)) == 0);
     const char* rows = reinterpret_cast<const char*>(node.bounds);
     FN entryT[3], exitT[3];
@@ -92,6 +113,15 @@ template <bool kBitOrdered, typename FN, int N>
       const uint32_t nearByte = r.nearByte[axis], farByte = nearByte ^ uint32_t(N * sizeof(float));
       entryT[axis] = (r.org[axis] - FN::load(reinterpret_cast<const float*>(rows + nearByte))) * r.negInv[axis];
       exitT[axis] = (r.org[axis] - FN::load(reinterpret_cast<const float*>(rows + farByte))) * r.negInv[axis];
+      // Along an axis where the direction is +-0, -1/dir is -+inf, the entry plane is the one the
+      // sign bit picks, and the distances are -inf / +inf inside the slab and +inf / -inf beyond a
+      // plane: exact. An origin on a plane gives 0 * inf, the default NaN, whose sign bit is set:
+      // a neutral entry, and an exit that min turns into +inf (minps returns its second operand
+      // for a NaN), so the slab holds its boundary, as the float form's inside test does. A NaN
+      // exit of an unused lane becomes +inf as well; its entry along an axis the ray moves along
+      // stays a positive NaN and fails it.
+      if constexpr (kForm == NodeTestForm::kBitsZeroAxes)
+        exitT[axis] = min(exitT[axis], FN::broadcast(std::numeric_limits<float>::infinity()));
     }
     const FN nearT = maxOfBits(maxOfBits(entryT[0], entryT[1]), maxOfBits(r.tnear, entryT[2]));
     const FN farT = minOfBits(bitsPlus(minOfBits(minOfBits(exitT[0], exitT[1]), exitT[2]), kConservativeFarUlps),
@@ -140,14 +170,14 @@ template <typename FN>
 }
 
 // The axis-aligned layouts' nodes as the shared walk (wide_walk.h) sees them.
-template <typename FN, bool kBitOrdered>
+template <typename FN, NodeTestForm kForm>
 struct AxisAlignedWideNodes {
   const TriangleWideView<FN::kWidth>& bvh;
   const WideRayFrame<FN>& frame;
   const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
   [[gnu::always_inline]] int enter(uint32_t node, float /*tnear: the frame's*/, float tfar,
                                    float entry[FN::kWidth]) const {
-    return intersectWideNode<kBitOrdered>(bvh.nodes[node], frame, tfar, entry);
+    return intersectWideNode<kForm>(bvh.nodes[node], frame, tfar, entry);
   }
   [[gnu::always_inline]] void prefetch(uint32_t child) const { prefetchChild<FN>(bvh, child); }
   void count(uint32_t, TraversalCounters& counters) const { counters.aabbTests += FN::kWidth; }
@@ -159,12 +189,17 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
-  if (frame.bitOrdered)
-    walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN, true>{bvh, frame}, start, ray,
-                                                          leafVisitor, counters);
-  else
-    walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(AxisAlignedWideNodes<FN, false>{bvh, frame}, start, ray,
-                                                          leafVisitor, counters);
+  switch (nodeTestFormOf(frame)) {
+    case NodeTestForm::kBits:
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+          AxisAlignedWideNodes<FN, NodeTestForm::kBits>{bvh, frame}, start, ray, leafVisitor, counters);
+    case NodeTestForm::kBitsZeroAxes:
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+          AxisAlignedWideNodes<FN, NodeTestForm::kBitsZeroAxes>{bvh, frame}, start, ray, leafVisitor, counters);
+    case NodeTestForm::kFloat:
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+          AxisAlignedWideNodes<FN, NodeTestForm::kFloat>{bvh, frame}, start, ray, leafVisitor, counters);
+  }
 }
 
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>

@@ -149,6 +149,32 @@ TEST_P(HardCases, SpecialDirectionComponents) {
       << "a ray in the plane of a face still crosses the box's other faces";
 }
 
+// Rays that do not move along x (or y), with the origin exactly on the cube's x (or y) bounding
+// plane, running inside a face's plane to the edge where the far face meets it. Every box of the
+// BVH on the way to that edge has the same bounding plane, so the slab of a zero direction
+// component must include its boundary (signed zeros both ways: -0 picks the planes of a negative
+// direction).
+TEST_P(HardCases, ZeroDirectionComponentsWithTheOriginOnABoundingPlane) {
+  const float lo[3] = {-1.f, -1.f, -1.f}, hi[3] = {1.f, 1.f, 1.f};
+  const ObvhScene scene = sceneOf({cubeGrid(16, lo, hi)});  // 3,072 triangles: a tree of nodes, not one leaf
+  size_t rays = 0;
+  for (int still = 0; still < 2; ++still)  // the axis the ray does not move along: x or y
+    for (float onPlane : {lo[still], hi[still]})
+      for (float zero : {0.f, -0.f})
+        for (float along : {1.f, -1.f}) {
+          float org[3] = {0.3f, -0.2f, 0.1f}, dir[3] = {0.f, 0.f, along};
+          org[still] = onPlane;
+          dir[still] = zero;
+          dir[1 - still] = 0.f;
+          const RTCRayHit rh = scene.intersect(makeRay(org, dir));
+          EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << hex(rh.ray);
+          EXPECT_FLOAT_EQ(rh.ray.tfar, 1.f - along * 0.1f) << hex(rh.ray);
+          EXPECT_TRUE(scene.occluded(makeRay(org, dir))) << hex(rh.ray);
+          ++rays;
+        }
+  EXPECT_EQ(rays, 16u);
+}
+
 TEST_P(HardCases, SegmentBoundaries) {
   MeshData tri;
   tri.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0};
