@@ -207,8 +207,10 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
   markModified();
 }
 
-void Geometry::setTessellationRate(float) {
+void Geometry::setTessellationRate(float rate) {
   if (!isCurve()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  tessellationRate_ = rate;
+  markModified();
 }
 
 void* Geometry::bufferData(int type, unsigned slot) { return view(type, slot).data(); }

@@ -103,19 +103,22 @@ class Geometry : public RefCounted {
   bool isMesh() const {
     return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD || type_ == RTC_GEOMETRY_TYPE_GRID;
   }
-  // Sphere points, flat linear curves and round cubic curves: float4 vertices (position and radius).
+  // Sphere points, flat linear curves, round and flat cubic curves: float4 vertices (position and
+  // radius).
   static bool isShapeType(int type) {
     return type == RTC_GEOMETRY_TYPE_SPHERE_POINT || type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE ||
            type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
-           type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+           type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE ||
+           type == RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE;
   }
   bool isShape() const { return isShapeType(type_); }
   bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
   // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
-  // cubic curves (tessellation) and round linear curves (flags) read them, neither of which obvh
-  // implements. Both are accepted as Embree accepts them; the flags buffer is kept (the application
-  // may read it back), the rate is only checked, as nothing reads it.
+  // cubic curves (tessellation) and round linear curves (flags) read them. The flags buffer is
+  // kept (the application may read it back; obvh has no round linear curves yet), the rate is what
+  // flat cubic curves are cut into (Embree's default 4).
   void setTessellationRate(float rate);
+  float tessellationRate() const { return tessellationRate_; }
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
   const BufferView& attributeBuffer(unsigned slot) const;
 
@@ -133,6 +136,7 @@ class Geometry : public RefCounted {
   std::vector<BufferView> attributes_;
   BufferView flags_;  // curves
   unsigned mask_ = 0xFFFFFFFFu;
+  float tessellationRate_ = 4.f;
   int quality_ = RTC_BUILD_QUALITY_MEDIUM;
   bool enabled_ = true;
   bool committed_ = false;

@@ -60,8 +60,8 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgumen
     if (!implemented)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
                                             " is not supported by obvh yet (triangles, quads, grids, user geometry, "
-                                            "instances, sphere points, flat linear curves and round Bezier, B-spline "
-                                            "and Catmull-Rom curves are)");
+                                            "instances, sphere points, flat linear curves, and round and flat "
+                                            "Bezier, B-spline and Catmull-Rom curves are)");
     return (new Geometry(d, static_cast<RTCGeometryType>(type)))->handle();  // validated above
   });
 }

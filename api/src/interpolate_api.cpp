@@ -14,7 +14,7 @@
 #include "api_error.h"
 #include "enum_bits.h"
 #include "geometry.h"
-#include "intersect/round_curve.h"
+#include "intersect/curve_basis.h"
 
 using namespace obvh::api;
 
@@ -77,9 +77,10 @@ struct CurveWeights {
 
 CurveWeights curveWeights(int type, float u) {
   if (type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE) return {2, {1.f - u, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {}};
-  const obvh::CurveBasis basis = type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE    ? obvh::CurveBasis::Bezier
-                                 : type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ? obvh::CurveBasis::BSpline
-                                                                                 : obvh::CurveBasis::CatmullRom;
+  const bool bezier = type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE;
+  const bool bspline = type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE;
+  const obvh::CurveBasis basis = bezier ? obvh::CurveBasis::Bezier : bspline ? obvh::CurveBasis::BSpline
+                                                                             : obvh::CurveBasis::CatmullRom;
   const obvh::CurveBasisWeights b = obvh::curveBasisWeights(basis, u);
   CurveWeights c;
   for (int k = 0; k < 4; ++k) c.w[k] = float(b.w[k]), c.dw[k] = float(b.dw[k]), c.ddw[k] = float(b.ddw[k]);

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "api_error.h"
+#include "intersect/ribbon_curve.h"
 
 namespace obvh::api {
 
@@ -118,8 +119,17 @@ ShapeKind shapeKindOf(int type) {
     case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE: return ShapeKind::FlatLinearCurve;
     case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: return ShapeKind::RoundBezierCurve;
     case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: return ShapeKind::RoundBSplineCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: return ShapeKind::FlatBezierCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE: return ShapeKind::FlatBSplineCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE: return ShapeKind::FlatCatmullRomCurve;
     default: return ShapeKind::RoundCatmullRomCurve;
   }
+}
+
+ShapeVertex shapeVertexAt(const BufferView& buffer, size_t i) {
+  float v[4];
+  std::memcpy(v, buffer.data() + i * buffer.byteStride, sizeof v);
+  return {{v[0], v[1], v[2]}, v[3]};
 }
 
 ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
@@ -127,14 +137,11 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   desc.kind = shapeKindOf(g.type());
   desc.geomID = geomID;
   desc.mask = g.mask();
+  desc.ribbonQuads = obvh::ribbonQuadCount(g.tessellationRate());
   const auto copyStep = [&](unsigned step, std::vector<ShapeVertex>& out) {
     const BufferView& vertex = g.vertexBuffer(step);
     out.resize(vertex.itemCount);
-    for (size_t i = 0; i < vertex.itemCount; ++i) {
-      float v[4];
-      std::memcpy(v, vertex.data() + i * vertex.byteStride, sizeof v);
-      out[i] = {{v[0], v[1], v[2]}, v[3]};
-    }
+    for (size_t i = 0; i < vertex.itemCount; ++i) out[i] = shapeVertexAt(vertex, i);
   };
   if (!timeStepVerticesComplete(g)) return desc;
   copyStep(0, desc.vertices);
@@ -224,6 +231,9 @@ void Scene::rebuild() {
       case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE:
       case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE:
       case RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE:
+      case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE:
+      case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE:
+      case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE:
         desc.shapes.push_back(shapeOf(*g, uint32_t(id)));
         break;
       case RTC_GEOMETRY_TYPE_USER:

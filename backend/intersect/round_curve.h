@@ -10,29 +10,11 @@
 // piece's hits are bracketed along the ray and polished with Newton's method.
 #pragma once
 
+#include "intersect/curve_basis.h"
 #include "intersect/ray.h"
-#include "intersect/shapes.h"
 #include "math/vec3.h"
 
 namespace obvh {
-
-// Cubic Bezier control points with radii.
-struct CubicBezier {
-  ShapeVertex p[4];
-};
-
-enum class CurveBasis { Bezier, BSpline, CatmullRom };
-
-// The Bezier form of the segment whose four control vertices are v (for B-splines and Catmull-Rom
-// curves the segment between v[1] and v[2]).
-CubicBezier bezierOf(CurveBasis basis, const ShapeVertex v[4]);
-
-// The weights of a segment's four control vertices at u in the basis, with their first and
-// second derivatives in u (for interpolating values along the segment).
-struct CurveBasisWeights {
-  double w[4], dw[4], ddw[4];
-};
-CurveBasisWeights curveBasisWeights(CurveBasis basis, double u);
 
 // Holds the whole tube: the control points' box widened by the largest radius (the curve and its
 // radius stay inside their control points' convex hull).

@@ -25,7 +25,7 @@ struct ShapeVertex {
 };
 
 struct ShapeHit {
-  float t = 0.f, u = 0.f;
+  float t = 0.f, u = 0.f, v = 0.f;
   Vec3f Ng;
 };
 

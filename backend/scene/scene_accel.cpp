@@ -177,7 +177,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
       return step == 0 ? geometry.vertices : geometry.laterSteps[step - 1];
     };
     for (size_t prim = 0; prim < primitives; ++prim) {
-      ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), {}};
+      ShapePrimitive shape{geometry.kind, geometry.geomID, uint32_t(prim), geometry.ribbonQuads, {}};
       const size_t first = curve ? geometry.segments[prim] : prim;
       if (first + size_t(count) > geometry.vertices.size()) continue;
       Box3f bounds;

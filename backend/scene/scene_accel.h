@@ -116,12 +116,14 @@ class SceneAccel {
   static const Instance* placedAt(const Instance& instance, float time, Instance& storage);
   static Instance makeInstance(const SceneAccel* child, const Affine3f& localToWorld, uint32_t geomID);
 
-  // A sphere, a flat curve segment (its two vertices) or a round cubic curve (its Bezier control
-  // points, whatever its basis); v holds controlPointCount(kind) of them. A moving one keeps them
+  // A sphere, a flat curve segment (its two vertices), a round cubic curve (its Bezier control
+  // points, whatever its basis) or a flat cubic curve (its control vertices in its own basis, cut
+  // into ribbonQuads quads); v holds controlPointCount(kind) of them. A moving one keeps them
   // at every time step in shapeSteps_ (step s from firstStep + s * count) and they are blended per ray.
   struct ShapePrimitive {
     ShapeKind kind;
     uint32_t geomID, primID;
+    int ribbonQuads;
     ShapeVertex v[4];
     uint32_t firstStep = 0, stepCount = 1;
     float timeStart = 0.f, timeEnd = 1.f;

@@ -28,9 +28,21 @@ struct UserGeometryDesc {
   std::vector<Box3f> primitiveBounds;  // an empty or non-finite box skips the primitive
 };
 
-// Embree's sphere points, flat linear curves and round cubic curves, which obvh intersects itself
-// (intersect/shapes.h, intersect/round_curve.h).
-enum class ShapeKind { Sphere, FlatLinearCurve, RoundBezierCurve, RoundBSplineCurve, RoundCatmullRomCurve };
+// Embree's sphere points, flat linear curves, round and flat cubic curves, which obvh intersects
+// itself (intersect/shapes.h, intersect/round_curve.h, intersect/ribbon_curve.h).
+enum class ShapeKind {
+  Sphere,
+  FlatLinearCurve,
+  RoundBezierCurve,
+  RoundBSplineCurve,
+  RoundCatmullRomCurve,
+  FlatBezierCurve,
+  FlatBSplineCurve,
+  FlatCatmullRomCurve
+};
+inline bool isRibbonCurve(ShapeKind kind) {
+  return kind == ShapeKind::FlatBezierCurve || kind == ShapeKind::FlatBSplineCurve || kind == ShapeKind::FlatCatmullRomCurve;
+}
 // The vertices one primitive of the kind reads: a sphere's centre, a segment's ends, a cubic's controls.
 inline int controlPointCount(ShapeKind kind) {
   return kind == ShapeKind::Sphere ? 1 : kind == ShapeKind::FlatLinearCurve ? 2 : 4;
@@ -44,6 +56,7 @@ struct ShapeGeometryDesc {
   // Motion blur: the vertices of time steps 1, 2, ... (vertices is step 0), over [timeStart, timeEnd].
   std::vector<std::vector<ShapeVertex>> laterSteps;
   float timeStart = 0.f, timeEnd = 1.f;
+  int ribbonQuads = 4;  // flat cubic curves: quads a segment (intersect/ribbon_curve.h)
 };
 
 struct SceneDesc {

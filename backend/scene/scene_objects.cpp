@@ -78,11 +78,11 @@ bool SceneAccel::intersectShape(const ShapePrimitive& shape, Ray& ray, Hit& hit,
   ShapeVertex controls[4];
   if (!shapeAt(shape, ray.time, controls)) return false;
   ShapeHit sh;
-  if (!intersectShapeControls(shape.kind, ray, controls, sh)) return false;
+  if (!intersectShapeControls(shape.kind, ray, controls, shape.ribbonQuads, sh)) return false;
   Hit candidate;
   candidate.Ng = sh.Ng;
   candidate.u = sh.u;
-  candidate.v = 0.f;
+  candidate.v = sh.v;
   candidate.geomID = shape.geomID;
   candidate.primID = shape.primID;
   candidate.instID = state.instID;

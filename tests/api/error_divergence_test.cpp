@@ -93,7 +93,7 @@ TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
   rtcSetDeviceErrorFunction(
       d.device, [](void* user, RTCError, const char* msg) { static_cast<std::vector<std::string>*>(user)->push_back(msg); },
       &messages);
-  for (RTCGeometryType type : {RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE, RTC_GEOMETRY_TYPE_SUBDIVISION,
+  for (RTCGeometryType type : {RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE, RTC_GEOMETRY_TYPE_SUBDIVISION,
                                RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE,
                                RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT, RTC_GEOMETRY_TYPE_DISC_POINT}) {
     EXPECT_EQ(rtcNewGeometry(d.device, type), nullptr);

@@ -10,6 +10,12 @@
 
 namespace obvh::test {
 
+namespace {
+std::string describeNg(const RTCHit& h) {
+  return "(" + std::to_string(h.Ng_x) + ", " + std::to_string(h.Ng_y) + ", " + std::to_string(h.Ng_z) + ")";
+}
+}  // namespace
+
 ShapeAnswerCounts compareShapeAnswers(RTCScene reference, RTCScene candidate, const std::vector<RTCRay>& rays,
                                       const ShapeAnswerRules& rules) {
   const LoadedLibraries& libs = libraries();
@@ -50,13 +56,15 @@ ShapeAnswerCounts compareShapeAnswers(RTCScene reference, RTCScene candidate, co
     const float te = rh[0].ray.tfar, to = rh[1].ray.tfar;
     const float scale = rules.ngTolerance * std::max({std::fabs(e.Ng_x), std::fabs(e.Ng_y), std::fabs(e.Ng_z), 1e-3f});
     const bool close = std::fabs(te - to) <= 1e-4f * std::max(1.f, te) && std::fabs(e.u - o.u) <= rules.uTolerance &&
-                       std::fabs(e.v - o.v) <= 1e-6f && std::fabs(e.Ng_x - o.Ng_x) <= scale &&
+                       std::fabs(e.v - o.v) <= rules.vTolerance && std::fabs(e.Ng_x - o.Ng_x) <= scale &&
                        std::fabs(e.Ng_y - o.Ng_y) <= scale && std::fabs(e.Ng_z - o.Ng_z) <= scale;
     if (!close && !grazes(e)) {
       ++counts.mismatched;
       if (counts.firstMismatch.empty())
         counts.firstMismatch = tools::describeRay(ray) + " (values differ: t " + std::to_string(te) + " / " +
-                               std::to_string(to) + ", u " + std::to_string(e.u) + " / " + std::to_string(o.u) + ")";
+                               std::to_string(to) + ", u " + std::to_string(e.u) + " / " + std::to_string(o.u) + ", v " +
+                               std::to_string(e.v) + " / " + std::to_string(o.v) + ", Ng " + describeNg(e) + " / " +
+                               describeNg(o) + ")";
     }
   }
   return counts;

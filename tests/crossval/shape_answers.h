@@ -19,6 +19,7 @@ struct ShapeAnswerRules {
   // Whether two different answers are the two segments meeting at a joint, both right; null: never.
   std::function<bool(const RTCRayHit& embree, const RTCRayHit& obvh)> jointTie;
   float uTolerance = 1e-3f;   // absolute
+  float vTolerance = 1e-6f;   // absolute
   float ngTolerance = 1e-3f;  // relative to Embree's largest Ng component
 };
 
