@@ -8,7 +8,8 @@
 
 namespace obvh::api {
 
-Geometry::Geometry(Device* device, RTCGeometryType type) : device_(device), type_(type), vertices_(1) {}
+Geometry::Geometry(Device* device, RTCGeometryType type)
+    : device_(device), type_(type), vertices_(1), tangents_(isHermiteType(type) ? 1 : 0) {}
 
 Geometry::~Geometry() {
   if (instancedScene_) instancedScene_->release();
@@ -151,6 +152,10 @@ BufferView& Geometry::view(int type, unsigned slot) {
       if (!isCurve()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       return flags_;
+    case RTC_BUFFER_TYPE_TANGENT:
+      if (!isHermite()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (slot >= tangents_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+      return tangents_[slot];
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       return attributes_[slot];
@@ -189,6 +194,11 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
       if (!isCurve()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
       if (format != RTC_FORMAT_UCHAR) fail(RTC_ERROR_INVALID_OPERATION, "invalid flags buffer format");
+      break;
+    case RTC_BUFFER_TYPE_TANGENT:
+      if (!isHermite()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+      if (slot >= tangents_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid tangent buffer slot");
+      if (format != RTC_FORMAT_FLOAT4) fail(RTC_ERROR_INVALID_OPERATION, "invalid tangent buffer format");
       break;
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (slot >= attributes_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer slot");
@@ -230,6 +240,7 @@ void Geometry::setTimeStepCount(unsigned count) {
     transforms_.resize(count);
   } else {
     vertices_.resize(count);
+    if (isHermite()) tangents_.resize(count);
   }
   markModified();
 }

@@ -109,8 +109,16 @@ class Geometry : public RefCounted {
     return type == RTC_GEOMETRY_TYPE_SPHERE_POINT || type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE ||
            type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE ||
            type == RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE ||
-           type == RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE;
+           type == RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE ||
+           isHermiteType(type);
   }
+  // Hermite curves: a segment runs between vertices i and i + 1 with the tangents (float4: the
+  // position's and the radius' derivative) of a tangent buffer per time step.
+  static bool isHermiteType(int type) {
+    return type == RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_HERMITE_CURVE;
+  }
+  bool isHermite() const { return isHermiteType(type_); }
+  const BufferView& tangentBuffer(unsigned timeStep = 0) const { return tangents_.at(timeStep); }
   bool isShape() const { return isShapeType(type_); }
   bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
   // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
@@ -134,6 +142,7 @@ class Geometry : public RefCounted {
   BufferView index_;  // the index buffer, or a grid mesh's grid buffer
   std::vector<BufferView> vertices_;  // per time step (user geometry: one empty view per step)
   std::vector<BufferView> attributes_;
+  std::vector<BufferView> tangents_;  // Hermite curves, per time step
   BufferView flags_;  // curves
   unsigned mask_ = 0xFFFFFFFFu;
   float tessellationRate_ = 4.f;

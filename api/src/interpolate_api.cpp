@@ -113,10 +113,54 @@ void interpolateCurve(const Geometry& g, const BufferView& values, unsigned prim
   }
 }
 
+// A Hermite curve's values, measured on Debian's Embree and answered alike: its vertex buffer
+// (or, asked for its tangent buffer, the same) follows the Hermite basis over the vertices and
+// tangents of the slot; a vertex attribute is interpolated linearly between the segment's two
+// vertices (ddPdudu = 0).
+void interpolateHermite(const Geometry& g, int type, unsigned slot, unsigned primID, float u, float* P, float* dPdu,
+                        float* ddPdudu, unsigned valueCount) {
+  const BufferView& index = g.indexBuffer();
+  if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
+  uint32_t first;
+  std::memcpy(&first, index.data() + size_t(primID) * index.byteStride, sizeof first);
+  if (first == 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
+  if (type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE) {
+    const BufferView& values = g.attributeBuffer(slot);
+    const float *a = itemAt(values, first, valueCount), *b = itemAt(values, first + 1, valueCount);
+    for (unsigned i = 0; i < valueCount; ++i) {
+      if (P) P[i] = (1.f - u) * a[i] + u * b[i];
+      if (dPdu) dPdu[i] = b[i] - a[i];
+      if (ddPdudu) ddPdudu[i] = 0.f;
+    }
+    return;
+  }
+  if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
+  const BufferView &vertex = g.vertexBuffer(slot), &tangent = g.tangentBuffer(slot);
+  if (!vertex.bound() || !tangent.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+  const float* item[4] = {itemAt(vertex, first, valueCount), itemAt(tangent, first, valueCount),
+                          itemAt(vertex, first + 1, valueCount), itemAt(tangent, first + 1, valueCount)};
+  const float u2 = u * u, u3 = u2 * u;
+  const float w[4] = {2.f * u3 - 3.f * u2 + 1.f, u3 - 2.f * u2 + u, -2.f * u3 + 3.f * u2, u3 - u2};
+  const float dw[4] = {6.f * u2 - 6.f * u, 3.f * u2 - 4.f * u + 1.f, -6.f * u2 + 6.f * u, 3.f * u2 - 2.f * u};
+  const float ddw[4] = {12.f * u - 6.f, 6.f * u - 4.f, -12.f * u + 6.f, 6.f * u - 2.f};
+  for (unsigned i = 0; i < valueCount; ++i) {
+    float p = 0.f, dp = 0.f, ddp = 0.f;
+    for (int k = 0; k < 4; ++k) p += w[k] * item[k][i], dp += dw[k] * item[k][i], ddp += ddw[k] * item[k][i];
+    if (P) P[i] = p;
+    if (dPdu) dPdu[i] = dp;
+    if (ddPdudu) ddPdudu[i] = ddp;
+  }
+}
+
 void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int type, unsigned slot, float* P,
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
   if (!g.isMesh() && !g.isCurve())
     fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes and curves");
+  if (g.isHermite() && (type == RTC_BUFFER_TYPE_VERTEX || type == RTC_BUFFER_TYPE_TANGENT ||
+                        type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE)) {
+    if (!g.indexBuffer().bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+    return interpolateHermite(g, type, slot, primID, u, P, dPdu, ddPdudu, valueCount);
+  }
   const BufferView* values = nullptr;
   if (type == RTC_BUFFER_TYPE_VERTEX) {
     if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");

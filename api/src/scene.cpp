@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -119,7 +120,9 @@ ShapeKind shapeKindOf(int type) {
     case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE: return ShapeKind::FlatLinearCurve;
     case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: return ShapeKind::RoundBezierCurve;
     case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: return ShapeKind::RoundBSplineCurve;
-    case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: return ShapeKind::FlatBezierCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: case RTC_GEOMETRY_TYPE_FLAT_HERMITE_CURVE:
+      return ShapeKind::FlatBezierCurve;
+    case RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE: return ShapeKind::RoundBezierCurve;
     case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE: return ShapeKind::FlatBSplineCurve;
     case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE: return ShapeKind::FlatCatmullRomCurve;
     default: return ShapeKind::RoundCatmullRomCurve;
@@ -130,6 +133,42 @@ ShapeVertex shapeVertexAt(const BufferView& buffer, size_t i) {
   float v[4];
   std::memcpy(v, buffer.data() + i * buffer.byteStride, sizeof v);
   return {{v[0], v[1], v[2]}, v[3]};
+}
+
+// Hermite segments become the Bezier segments Embree makes of them, rounded in float as it rounds
+// them: (p0, p0 + t0/3, p1 - t1/3, p1), radii alike; four vertices a segment. A segment whose
+// vertices or tangents lie past their buffers is skipped (its start points past the vertices).
+void hermiteAsBezier(const Geometry& g, ShapeGeometryDesc& desc) {
+  const BufferView& index = g.indexBuffer();
+  const size_t segments = index.data() ? index.itemCount : 0;
+  for (unsigned step = 0; step < g.timeStepCount(); ++step) {
+    const BufferView& tangent = g.tangentBuffer(step);
+    if (!tangent.bound() || !tangent.data()) return;
+  }
+  desc.vertices.assign(4 * segments, ShapeVertex{});
+  desc.laterSteps.assign(g.timeStepCount() - 1, desc.vertices);
+  desc.segments.assign(segments, 0xFFFFFFFFu);
+  const auto third = [](const ShapeVertex& p, const ShapeVertex& t, float sign) {
+    const float s = sign / 3.f;
+    return ShapeVertex{{std::fma(s, t.p.x, p.p.x), std::fma(s, t.p.y, p.p.y), std::fma(s, t.p.z, p.p.z)},
+                       std::fma(s, t.r, p.r)};
+  };
+  for (size_t k = 0; k < segments; ++k) {
+    uint32_t first;
+    std::memcpy(&first, index.data() + k * index.byteStride, sizeof first);
+    const uint64_t last = uint64_t(first) + 1;
+    bool inside = last < g.vertexBuffer().itemCount;
+    for (unsigned step = 0; step < g.timeStepCount(); ++step) inside &= last < g.tangentBuffer(step).itemCount;
+    if (!inside) continue;
+    desc.segments[k] = uint32_t(4 * k);
+    for (unsigned step = 0; step < g.timeStepCount(); ++step) {
+      const BufferView &vertex = g.vertexBuffer(step), &tangent = g.tangentBuffer(step);
+      const ShapeVertex p0 = shapeVertexAt(vertex, first), p1 = shapeVertexAt(vertex, last);
+      const ShapeVertex t0 = shapeVertexAt(tangent, first), t1 = shapeVertexAt(tangent, last);
+      ShapeVertex* out = &(step == 0 ? desc.vertices : desc.laterSteps[step - 1])[4 * k];
+      out[0] = p0, out[1] = third(p0, t0, 1.f), out[2] = third(p1, t1, -1.f), out[3] = p1;
+    }
+  }
 }
 
 ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
@@ -144,6 +183,11 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
     for (size_t i = 0; i < vertex.itemCount; ++i) out[i] = shapeVertexAt(vertex, i);
   };
   if (!timeStepVerticesComplete(g)) return desc;
+  desc.timeStart = g.timeStart(), desc.timeEnd = g.timeEnd();
+  if (g.isHermite()) {
+    hermiteAsBezier(g, desc);
+    return desc;
+  }
   copyStep(0, desc.vertices);
   desc.laterSteps.resize(g.timeStepCount() - 1);
   for (unsigned step = 1; step < g.timeStepCount(); ++step) copyStep(step, desc.laterSteps[step - 1]);
@@ -234,6 +278,8 @@ void Scene::rebuild() {
       case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE:
       case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE:
       case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE:
+      case RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE:
+      case RTC_GEOMETRY_TYPE_FLAT_HERMITE_CURVE:
         desc.shapes.push_back(shapeOf(*g, uint32_t(id)));
         break;
       case RTC_GEOMETRY_TYPE_USER:

@@ -94,7 +94,7 @@ TEST(ErrorDivergence, UnimplementedFeaturesFailLoudly) {
       d.device, [](void* user, RTCError, const char* msg) { static_cast<std::vector<std::string>*>(user)->push_back(msg); },
       &messages);
   for (RTCGeometryType type : {RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE, RTC_GEOMETRY_TYPE_SUBDIVISION,
-                               RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE,
+                               RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_HERMITE_CURVE, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE,
                                RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT, RTC_GEOMETRY_TYPE_DISC_POINT}) {
     EXPECT_EQ(rtcNewGeometry(d.device, type), nullptr);
     EXPECT_EQ(rtcGetDeviceError(d.device), RTC_ERROR_INVALID_OPERATION);

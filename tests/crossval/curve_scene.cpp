@@ -164,6 +164,38 @@ std::vector<RTCRay> raysAtCurves(const CurveScene& data, const CurveScene* later
   return rays;
 }
 
+RTCScene commitHermiteCurveScene(const RtcLibrary& lib, RTCDevice device, const CurveScene& data,
+                                 const CurveScene* later, RTCGeometryType type, float tessellationRate) {
+  RTCScene scene = lib.rtcNewScene(device);
+  RTCGeometry g = lib.rtcNewGeometry(device, type);
+  if (tessellationRate >= 0.f) lib.rtcSetGeometryTessellationRate(g, tessellationRate);
+  const size_t segments = data.segments[0].size();
+  if (later) lib.rtcSetGeometryTimeStepCount(g, 2);
+  for (unsigned step = 0; step < (later ? 2u : 1u); ++step) {
+    const std::vector<Point4>& bezier = step == 0 ? data.vertices[0] : later->vertices[0];
+    auto* v = static_cast<Point4*>(
+        lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT4, 16, 2 * segments));
+    auto* t = static_cast<Point4*>(
+        lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_TANGENT, step, RTC_FORMAT_FLOAT4, 16, 2 * segments));
+    const auto slope = [](const Point4& from, const Point4& to) {
+      return Point4{3.f * (to.x - from.x), 3.f * (to.y - from.y), 3.f * (to.z - from.z), 3.f * (to.r - from.r)};
+    };
+    for (size_t k = 0; k < segments; ++k) {
+      const Point4* c = &bezier[data.segments[0][k]];
+      v[2 * k] = c[0], v[2 * k + 1] = c[3];
+      t[2 * k] = slope(c[0], c[1]), t[2 * k + 1] = slope(c[2], c[3]);
+    }
+  }
+  auto* index = static_cast<uint32_t*>(
+      lib.rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, 4, segments));
+  for (size_t k = 0; k < segments; ++k) index[k] = uint32_t(2 * k);
+  lib.rtcCommitGeometry(g);
+  lib.rtcAttachGeometry(scene, g);
+  lib.rtcReleaseGeometry(g);
+  lib.rtcCommitScene(scene);
+  return scene;
+}
+
 bool cubicJointTie(const RTCRayHit& embree, const RTCRayHit& obvh) {
   const RTCHit &e = embree.hit, &o = obvh.hit;
   if (e.geomID != o.geomID || e.geomID == RTC_INVALID_GEOMETRY_ID || e.primID / 2 != o.primID / 2) return false;

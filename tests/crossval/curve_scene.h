@@ -44,6 +44,11 @@ CurveScene sceneAt(const CurveScene& first, const CurveScene* later, float time)
 RTCScene commitCurveScene(const RtcLibrary& lib, RTCDevice device, const CurveScene& data, const CurveScene* later,
                           const RTCGeometryType types[3], float tessellationRate = -1.f);
 
+// The scene's Bezier curves (geometry 0) as Hermite curves of the given type, geomID 0: each
+// segment its own two vertices with tangents 3 (p1 - p0) and 3 (p3 - p2), the same curve.
+RTCScene commitHermiteCurveScene(const RtcLibrary& lib, RTCDevice device, const CurveScene& data,
+                                 const CurveScene* later, RTCGeometryType type, float tessellationRate = -1.f);
+
 // Random rays through the scene's box, and rays aimed near points of every segment (a little past
 // its ends too) from all sides, a quarter starting inside or right beside the curve; at random
 // times when the scene moves.

@@ -43,11 +43,16 @@ Margins margins(const RTCRay& ray, int basis, const Point4* control) {
   return m;
 }
 
-// later: the curves' second time step (motion blur, rays at random times), or null.
-void expectCurvesMatchEmbree(const CurveScene& data, const CurveScene* later) {
+// later: the curves' second time step (motion blur, rays at random times), or null; hermite: the
+// Bezier curves alone, given as RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE.
+void expectCurvesMatchEmbree(const CurveScene& data, const CurveScene* later, bool hermite = false) {
   const LoadedLibraries& libs = libraries();
-  RTCScene reference = commitCurveScene(*libs.embree, libs.embreeDevice, data, later, kRoundCurveTypes);
-  RTCScene candidate = commitCurveScene(*libs.obvh, libs.obvhDevice, data, later, kRoundCurveTypes);
+  const auto commit = [&](const RtcLibrary& lib, RTCDevice device) {
+    return hermite ? commitHermiteCurveScene(lib, device, data, later, RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE)
+                   : commitCurveScene(lib, device, data, later, kRoundCurveTypes);
+  };
+  RTCScene reference = commit(*libs.embree, libs.embreeDevice);
+  RTCScene candidate = commit(*libs.obvh, libs.obvhDevice);
   ASSERT_EQ(libs.obvh->rtcGetDeviceError(libs.obvhDevice), RTC_ERROR_NONE);
 
   const std::vector<RTCRay> rays = raysAtCurves(data, later);
@@ -60,8 +65,10 @@ void expectCurvesMatchEmbree(const CurveScene& data, const CurveScene* later) {
   rules.jointTie = cubicJointTie;
   // Embree's Ng comes from its float solution, in which the radius' slope term loses digits.
   rules.ngTolerance = 1e-2f;
-  expectSameShapeAnswers(later ? "moving round curves" : "round curves",
-                         compareShapeAnswers(reference, candidate, rays, rules), rays.size(), rays.size() / 5);
+  expectSameShapeAnswers(hermite ? (later ? "moving round Hermite curves" : "round Hermite curves")
+                                 : (later ? "moving round curves" : "round curves"),
+                         compareShapeAnswers(reference, candidate, rays, rules), rays.size(),
+                         rays.size() / (hermite ? 15 : 5));
   libs.embree->rtcReleaseScene(reference);
   libs.obvh->rtcReleaseScene(candidate);
 }
@@ -72,6 +79,31 @@ TEST(CrossvalRoundCurves, BezierBSplineAndCatmullRomMatchEmbree) { expectCurvesM
 TEST(CrossvalRoundCurves, MovingCurvesMatchEmbree) {
   const CurveScene start = makeCurveScene(6), later = movedOn(start);
   expectCurvesMatchEmbree(start, &later);
+}
+
+// RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE: vertices and tangents (RTC_BUFFER_TYPE_TANGENT), still and moving.
+TEST(CrossvalRoundCurves, HermiteCurvesMatchEmbree) {
+  const CurveScene start = makeCurveScene(7), later = movedOn(start);
+  expectCurvesMatchEmbree(start, nullptr, true);
+  expectCurvesMatchEmbree(start, &later, true);
+}
+
+// A committed curve geometry over shared buffers: float4 vertices, tangents (Hermite curves; else
+// null), segment starts and one float3 vertex attribute.
+RTCGeometry interpolatedCurve(const RtcLibrary& lib, RTCDevice device, RTCGeometryType type,
+                              const std::vector<Point4>& vertices, const std::vector<Point4>* tangents,
+                              const std::vector<uint32_t>& segments, const std::vector<float>& attribute) {
+  RTCGeometry g = lib.rtcNewGeometry(device, type);
+  lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, vertices.data(), 0, 16, vertices.size());
+  if (tangents)
+    lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_TANGENT, 0, RTC_FORMAT_FLOAT4, tangents->data(), 0, 16,
+                                   tangents->size());
+  lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, segments.data(), 0, 4, segments.size());
+  lib.rtcSetGeometryVertexAttributeCount(g, 1);
+  lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE, 0, RTC_FORMAT_FLOAT3, attribute.data(), 0, 12,
+                                 attribute.size() / 3);
+  lib.rtcCommitGeometry(g);
+  return g;
 }
 
 // rtcInterpolate along curve segments (the vertices and a vertex attribute, with first and second
@@ -95,17 +127,8 @@ TEST(CrossvalCurveInterpolation, EveryBasisMatchesEmbree) {
     std::vector<float> attribute(vertices.size() * 3);
     for (float& a : attribute) a = 10.f * unit(rng);
     RTCGeometry g[2];
-    for (int k = 0; k < 2; ++k) {
-      g[k] = lib[k]->rtcNewGeometry(devices[k], types[b]);
-      lib[k]->rtcSetSharedGeometryBuffer(g[k], RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, vertices.data(), 0, 16,
-                                         vertices.size());
-      lib[k]->rtcSetSharedGeometryBuffer(g[k], RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, segments.data(), 0, 4,
-                                         segments.size());
-      lib[k]->rtcSetGeometryVertexAttributeCount(g[k], 1);
-      lib[k]->rtcSetSharedGeometryBuffer(g[k], RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE, 0, RTC_FORMAT_FLOAT3, attribute.data(),
-                                         0, 12, vertices.size());
-      lib[k]->rtcCommitGeometry(g[k]);
-    }
+    for (int k = 0; k < 2; ++k)
+      g[k] = interpolatedCurve(*lib[k], devices[k], types[b], vertices, nullptr, segments, attribute);
     for (int n = 0; n < 500; ++n) {
       const unsigned prim = unsigned(rng() % segments.size());
       const float u = n % 10 == 0 ? float(n % 20 == 0) : unit(rng), v = unit(rng);
@@ -132,6 +155,55 @@ TEST(CrossvalCurveInterpolation, EveryBasisMatchesEmbree) {
     }
   }
   EXPECT_EQ(compared, 7000u);
+}
+
+// rtcInterpolate on Hermite curves: vertex and tangent buffers (Embree answers both with the
+// Hermite basis over vertices and tangents) and a vertex attribute (linear between the two vertices).
+TEST(CrossvalCurveInterpolation, HermiteMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.f, 1.f);
+  std::vector<Point4> vertices(40), tangents(40);
+  std::vector<float> attribute(40 * 3);
+  for (size_t k = 0; k < vertices.size(); ++k) {
+    vertices[k] = {4.f * unit(rng), 4.f * unit(rng), 4.f * unit(rng), 0.2f + 0.1f * unit(rng)};
+    tangents[k] = {3.f * unit(rng), 3.f * unit(rng), 3.f * unit(rng), 0.1f * unit(rng)};
+  }
+  for (float& a : attribute) a = 10.f * unit(rng);
+  std::vector<uint32_t> segments;
+  for (uint32_t k = 0; k + 1 < vertices.size(); k += 2) segments.push_back(k);
+  const RtcLibrary* lib[2] = {libs.embree, libs.obvh};
+  RTCDevice devices[2] = {libs.embreeDevice, libs.obvhDevice};
+  RTCGeometry g[2];
+  for (int k = 0; k < 2; ++k)
+    g[k] = interpolatedCurve(*lib[k], devices[k], RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE, vertices, &tangents, segments,
+                             attribute);
+  size_t compared = 0;
+  for (int n = 0; n < 300; ++n) {
+    const unsigned prim = unsigned(rng() % segments.size());
+    const float u = 0.5f + 0.5f * unit(rng);
+    for (RTCBufferType type : {RTC_BUFFER_TYPE_VERTEX, RTC_BUFFER_TYPE_TANGENT, RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE}) {
+      const unsigned count = type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE ? 3 : 4;
+      float out[2][6][4];
+      for (auto& library : out)
+        for (auto& part : library) std::fill(part, part + 4, -7.f);
+      for (int k = 0; k < 2; ++k) {
+        RTCInterpolateArguments args{g[k], prim, u, 0.5f, type, 0, out[k][0], out[k][1], out[k][2], out[k][3], out[k][4],
+                                     out[k][5], count};
+        lib[k]->rtcInterpolate(&args);
+      }
+      for (int part = 0; part < 6; ++part)
+        for (unsigned c = 0; c < count; ++c)
+          EXPECT_NEAR(out[0][part][c], out[1][part][c], 1e-4f * (1.f + std::fabs(out[0][part][c])))
+              << "buffer type " << type << " prim " << prim << " u " << u << " part " << part;
+      ++compared;
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(lib[k]->rtcGetDeviceError(devices[k]), RTC_ERROR_NONE);
+    lib[k]->rtcReleaseGeometry(g[k]);
+  }
+  EXPECT_EQ(compared, 900u);
 }
 
 }  // namespace
