@@ -217,6 +217,22 @@ void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>&
   markModified();
 }
 
+obvh::ShapeKind Geometry::shapeKind() const {
+  using obvh::ShapeKind;
+  switch (type_) {
+    case RTC_GEOMETRY_TYPE_SPHERE_POINT: return ShapeKind::Sphere;
+    case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE: return ShapeKind::FlatLinearCurve;
+    case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: case RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE:
+      return ShapeKind::RoundBezierCurve;
+    case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: return ShapeKind::RoundBSplineCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: case RTC_GEOMETRY_TYPE_FLAT_HERMITE_CURVE:
+      return ShapeKind::FlatBezierCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE: return ShapeKind::FlatBSplineCurve;
+    case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE: return ShapeKind::FlatCatmullRomCurve;
+    default: return ShapeKind::RoundCatmullRomCurve;
+  }
+}
+
 void Geometry::setTessellationRate(float rate) {
   if (!isCurve()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
   tessellationRate_ = rate;

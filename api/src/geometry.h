@@ -11,6 +11,7 @@
 #include "device.h"
 #include "math/affine.h"
 #include "scene/instance_motion.h"
+#include "scene/scene_desc.h"
 #include "ref_counted.h"
 
 namespace obvh::api {
@@ -120,6 +121,8 @@ class Geometry : public RefCounted {
   bool isHermite() const { return isHermiteType(type_); }
   const BufferView& tangentBuffer(unsigned timeStep = 0) const { return tangents_.at(timeStep); }
   bool isShape() const { return isShapeType(type_); }
+  // What the backend traces a shape geometry as (Hermite curves: as the Bezier curves they make).
+  obvh::ShapeKind shapeKind() const;
   bool isCurve() const { return isShape() && type_ != RTC_GEOMETRY_TYPE_SPHERE_POINT; }
   // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
   // cubic curves (tessellation) and round linear curves (flags) read them. The flags buffer is

@@ -75,16 +75,23 @@ struct CurveWeights {
   float w[4], dw[4], ddw[4];
 };
 
-CurveWeights curveWeights(int type, float u) {
-  if (type == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE) return {2, {1.f - u, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {}};
-  const bool bezier = type == RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE;
-  const bool bspline = type == RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE || type == RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE;
-  const obvh::CurveBasis basis = bezier ? obvh::CurveBasis::Bezier : bspline ? obvh::CurveBasis::BSpline
-                                                                             : obvh::CurveBasis::CatmullRom;
-  const obvh::CurveBasisWeights b = obvh::curveBasisWeights(basis, u);
+CurveWeights curveWeights(const Geometry& g, float u) {
+  if (g.type() == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE) return {2, {1.f - u, u, 0.f, 0.f}, {-1.f, 1.f, 0.f, 0.f}, {}};
+  const obvh::CurveBasisWeights b = obvh::curveBasisWeights(obvh::curveBasisOf(g.shapeKind()), u);
   CurveWeights c;
   for (int k = 0; k < 4; ++k) c.w[k] = float(b.w[k]), c.dw[k] = float(b.dw[k]), c.ddw[k] = float(b.ddw[k]);
   return c;
+}
+
+// The first vertex of curve segment primID, which reads `count` vertices from it.
+uint32_t segmentStart(const Geometry& g, unsigned primID, int count) {
+  const BufferView& index = g.indexBuffer();
+  if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
+  uint32_t first;
+  std::memcpy(&first, index.data() + size_t(primID) * index.byteStride, sizeof first);
+  if (uint64_t(first) + uint64_t(count - 1) > 0xFFFFFFFFu)
+    fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
+  return first;
 }
 
 // A curve's values along its segment primID at u. Measured on Debian's Embree and answered alike:
@@ -92,18 +99,11 @@ CurveWeights curveWeights(int type, float u) {
 // linear curve writes P and dPdu = 0 (not its slope) and leaves the rest.
 void interpolateCurve(const Geometry& g, const BufferView& values, unsigned primID, float u, float* P, float* dPdu,
                       float* ddPdudu, unsigned valueCount) {
-  const BufferView& index = g.indexBuffer();
-  if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
-  uint32_t first;
-  std::memcpy(&first, index.data() + size_t(primID) * index.byteStride, sizeof first);
   const bool linear = g.type() == RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE;
-  const CurveWeights c = curveWeights(g.type(), u);
+  const CurveWeights c = curveWeights(g, u);
+  const uint32_t first = segmentStart(g, primID, c.count);
   const float* vertex[4];
-  for (int k = 0; k < c.count; ++k) {
-    if (uint64_t(first) + uint64_t(k) > 0xFFFFFFFFu)
-      fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
-    vertex[k] = itemAt(values, first + uint32_t(k), valueCount);
-  }
+  for (int k = 0; k < c.count; ++k) vertex[k] = itemAt(values, first + uint32_t(k), valueCount);
   for (unsigned i = 0; i < valueCount; ++i) {
     float p = 0.f, dp = 0.f, ddp = 0.f;
     for (int k = 0; k < c.count; ++k) p += c.w[k] * vertex[k][i], dp += c.dw[k] * vertex[k][i], ddp += c.ddw[k] * vertex[k][i];
@@ -116,16 +116,11 @@ void interpolateCurve(const Geometry& g, const BufferView& values, unsigned prim
 // A Hermite curve's values, measured on Debian's Embree and answered alike: its vertex buffer
 // (or, asked for its tangent buffer, the same) follows the Hermite basis over the vertices and
 // tangents of the slot; a vertex attribute is interpolated linearly between the segment's two
-// vertices (ddPdudu = 0).
-void interpolateHermite(const Geometry& g, int type, unsigned slot, unsigned primID, float u, float* P, float* dPdu,
-                        float* ddPdudu, unsigned valueCount) {
-  const BufferView& index = g.indexBuffer();
-  if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
-  uint32_t first;
-  std::memcpy(&first, index.data() + size_t(primID) * index.byteStride, sizeof first);
-  if (first == 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "primitive references a vertex that does not exist");
+// vertices (ddPdudu = 0). values: the vertex buffer of the slot, or the attribute's.
+void interpolateHermite(const Geometry& g, const BufferView& values, int type, unsigned slot, unsigned primID, float u,
+                        float* P, float* dPdu, float* ddPdudu, unsigned valueCount) {
+  const uint32_t first = segmentStart(g, primID, 2);
   if (type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE) {
-    const BufferView& values = g.attributeBuffer(slot);
     const float *a = itemAt(values, first, valueCount), *b = itemAt(values, first + 1, valueCount);
     for (unsigned i = 0; i < valueCount; ++i) {
       if (P) P[i] = (1.f - u) * a[i] + u * b[i];
@@ -134,11 +129,10 @@ void interpolateHermite(const Geometry& g, int type, unsigned slot, unsigned pri
     }
     return;
   }
-  if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
-  const BufferView &vertex = g.vertexBuffer(slot), &tangent = g.tangentBuffer(slot);
-  if (!vertex.bound() || !tangent.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
-  const float* item[4] = {itemAt(vertex, first, valueCount), itemAt(tangent, first, valueCount),
-                          itemAt(vertex, first + 1, valueCount), itemAt(tangent, first + 1, valueCount)};
+  const BufferView& tangent = g.tangentBuffer(slot);
+  if (!tangent.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+  const float* item[4] = {itemAt(values, first, valueCount), itemAt(tangent, first, valueCount),
+                          itemAt(values, first + 1, valueCount), itemAt(tangent, first + 1, valueCount)};
   const float u2 = u * u, u3 = u2 * u;
   const float w[4] = {2.f * u3 - 3.f * u2 + 1.f, u3 - 2.f * u2 + u, -2.f * u3 + 3.f * u2, u3 - u2};
   const float dw[4] = {6.f * u2 - 6.f * u, 3.f * u2 - 4.f * u + 1.f, -6.f * u2 + 6.f * u, 3.f * u2 - 2.f * u};
@@ -156,13 +150,8 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
   if (!g.isMesh() && !g.isCurve())
     fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes and curves");
-  if (g.isHermite() && (type == RTC_BUFFER_TYPE_VERTEX || type == RTC_BUFFER_TYPE_TANGENT ||
-                        type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE)) {
-    if (!g.indexBuffer().bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
-    return interpolateHermite(g, type, slot, primID, u, P, dPdu, ddPdudu, valueCount);
-  }
   const BufferView* values = nullptr;
-  if (type == RTC_BUFFER_TYPE_VERTEX) {
+  if (type == RTC_BUFFER_TYPE_VERTEX || (type == RTC_BUFFER_TYPE_TANGENT && g.isHermite())) {
     if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
     values = &g.vertexBuffer(slot);
   } else if (type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE) {
@@ -172,6 +161,7 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
   }
   const BufferView& index = g.indexBuffer();
   if (!values->bound() || !index.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+  if (g.isHermite()) return interpolateHermite(g, *values, type, slot, primID, u, P, dPdu, ddPdudu, valueCount);
   if (g.isCurve()) return interpolateCurve(g, *values, primID, u, P, dPdu, ddPdudu, valueCount);
   if (primID >= index.itemCount) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
   const unsigned char* record = index.data() + size_t(primID) * index.byteStride;

@@ -114,21 +114,6 @@ bool meshBuffersComplete(const Geometry& g) {
 
 // Sphere points and curves: their float4 vertices (and a curve's segment indices) are copied, as the
 // backend keeps its own copy of every primitive it intersects.
-ShapeKind shapeKindOf(int type) {
-  switch (type) {
-    case RTC_GEOMETRY_TYPE_SPHERE_POINT: return ShapeKind::Sphere;
-    case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE: return ShapeKind::FlatLinearCurve;
-    case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: return ShapeKind::RoundBezierCurve;
-    case RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: return ShapeKind::RoundBSplineCurve;
-    case RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: case RTC_GEOMETRY_TYPE_FLAT_HERMITE_CURVE:
-      return ShapeKind::FlatBezierCurve;
-    case RTC_GEOMETRY_TYPE_ROUND_HERMITE_CURVE: return ShapeKind::RoundBezierCurve;
-    case RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE: return ShapeKind::FlatBSplineCurve;
-    case RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE: return ShapeKind::FlatCatmullRomCurve;
-    default: return ShapeKind::RoundCatmullRomCurve;
-  }
-}
-
 ShapeVertex shapeVertexAt(const BufferView& buffer, size_t i) {
   float v[4];
   std::memcpy(v, buffer.data() + i * buffer.byteStride, sizeof v);
@@ -173,7 +158,7 @@ void hermiteAsBezier(const Geometry& g, ShapeGeometryDesc& desc) {
 
 ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   ShapeGeometryDesc desc;
-  desc.kind = shapeKindOf(g.type());
+  desc.kind = g.shapeKind();
   desc.geomID = geomID;
   desc.mask = g.mask();
   desc.ribbonQuads = obvh::ribbonQuadCount(g.tessellationRate());
@@ -191,7 +176,6 @@ ShapeGeometryDesc shapeOf(const Geometry& g, uint32_t geomID) {
   copyStep(0, desc.vertices);
   desc.laterSteps.resize(g.timeStepCount() - 1);
   for (unsigned step = 1; step < g.timeStepCount(); ++step) copyStep(step, desc.laterSteps[step - 1]);
-  desc.timeStart = g.timeStart(), desc.timeEnd = g.timeEnd();
   const BufferView& index = g.indexBuffer();
   if (desc.kind != ShapeKind::Sphere && index.data()) {
     desc.segments.resize(index.itemCount);

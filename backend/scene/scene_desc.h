@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "intersect/curve_basis.h"
 #include "intersect/shapes.h"
 #include "math/affine.h"
 #include "scene/instance_motion.h"
@@ -42,6 +43,14 @@ enum class ShapeKind {
 };
 inline bool isRibbonCurve(ShapeKind kind) {
   return kind == ShapeKind::FlatBezierCurve || kind == ShapeKind::FlatBSplineCurve || kind == ShapeKind::FlatCatmullRomCurve;
+}
+// A cubic curve kind's basis (Bezier for the others).
+inline CurveBasis curveBasisOf(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::RoundBSplineCurve: case ShapeKind::FlatBSplineCurve: return CurveBasis::BSpline;
+    case ShapeKind::RoundCatmullRomCurve: case ShapeKind::FlatCatmullRomCurve: return CurveBasis::CatmullRom;
+    default: return CurveBasis::Bezier;
+  }
 }
 // The vertices one primitive of the kind reads: a sphere's centre, a segment's ends, a cubic's controls.
 inline int controlPointCount(ShapeKind kind) {

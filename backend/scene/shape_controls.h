@@ -17,14 +17,6 @@ struct ShapeControls {
   Box3f bounds;
 };
 
-inline CurveBasis curveBasisOf(ShapeKind kind) {
-  switch (kind) {
-    case ShapeKind::RoundBSplineCurve: case ShapeKind::FlatBSplineCurve: return CurveBasis::BSpline;
-    case ShapeKind::RoundCatmullRomCurve: case ShapeKind::FlatCatmullRomCurve: return CurveBasis::CatmullRom;
-    default: return CurveBasis::Bezier;
-  }
-}
-
 // vertices: the controlPointCount(kind) vertices the primitive reads, in buffer order.
 inline ShapeControls shapeControls(ShapeKind kind, const ShapeVertex* vertices) {
   ShapeControls c;
