@@ -9,7 +9,19 @@
 namespace obvh::api {
 
 Geometry::Geometry(Device* device, RTCGeometryType type)
-    : device_(device), type_(type), vertices_(1), tangents_(isHermiteType(type) ? 1 : 0) {}
+    : device_(device), type_(type), vertices_(1), tangents_(isHermiteType(type) ? 1 : 0) {
+  if (type == RTC_GEOMETRY_TYPE_SUBDIVISION) subdivision_ = std::make_unique<SubdivisionGeometry>();
+}
+
+SubdivisionGeometry& Geometry::subdivision() {
+  if (!subdivision_) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  return *subdivision_;
+}
+
+const SubdivisionGeometry& Geometry::subdivision() const {
+  if (!subdivision_) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  return *subdivision_;
+}
 
 Geometry::~Geometry() {
   if (instancedScene_) instancedScene_->release();
@@ -137,6 +149,7 @@ const BufferView& Geometry::attributeBuffer(unsigned slot) const {
 }
 
 BufferView& Geometry::view(int type, unsigned slot) {
+  if (isSubdivision() && SubdivisionGeometry::ownsBufferType(type)) return subdivision_->view(type, slot);
   // A grid mesh has a grid buffer where the other meshes have an index buffer.
   const int primitiveBufferType = isGridMesh() ? RTC_BUFFER_TYPE_GRID : RTC_BUFFER_TYPE_INDEX;
   if (type == RTC_BUFFER_TYPE_INDEX || type == RTC_BUFFER_TYPE_GRID) {
@@ -166,13 +179,15 @@ BufferView& Geometry::view(int type, unsigned slot) {
 
 void Geometry::setBuffer(int type, unsigned slot, int format, const Ref<Buffer>& buffer,
                          size_t byteOffset, size_t byteStride, size_t itemCount, bool checkRange) {
-  if (!isMesh() && !isShape()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
+  if (!isMesh() && !isShape() && !isSubdivision()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
   // Checked first, as Embree does; flags (curves) are bytes.
   const uintptr_t start = reinterpret_cast<uintptr_t>(buffer->data()) + byteOffset;
   const bool bytes = type == RTC_BUFFER_TYPE_FLAGS && isShape();
   if (!bytes && ((start & 3u) != 0 || (byteStride & 3u) != 0))
     fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
-  switch (type) {
+  if (isSubdivision() && SubdivisionGeometry::ownsBufferType(type)) {
+    subdivision_->checkBinding(type, slot, format);
+  } else switch (type) {
     case RTC_BUFFER_TYPE_GRID:
       if (!isGridMesh()) fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");
       if (slot != 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
@@ -234,7 +249,8 @@ obvh::ShapeKind Geometry::shapeKind() const {
 }
 
 void Geometry::setTessellationRate(float rate) {
-  if (!isCurve()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  if (!isCurve() && !isSubdivision()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+  if (isSubdivision()) subdivision_->setTessellationRate(rate);
   tessellationRate_ = rate;
   markModified();
 }
@@ -250,7 +266,7 @@ void Geometry::setTimeStepCount(unsigned count) {
   if (count > RTC_MAX_TIME_STEP_COUNT) fail(RTC_ERROR_INVALID_ARGUMENT, "number of time steps is out of range");
   if (count == 0) return;  // Embree accepts 0 without an error; obvh keeps the steps it has
   const bool instance = type_ == RTC_GEOMETRY_TYPE_INSTANCE;
-  if (count > 1 && !isMesh() && !isShape() && !instance && type_ != RTC_GEOMETRY_TYPE_USER)
+  if (count > 1 && !isMesh() && !isShape() && !isSubdivision() && !instance && type_ != RTC_GEOMETRY_TYPE_USER)
     fail(RTC_ERROR_INVALID_OPERATION, "motion blur is not supported by obvh for this geometry type");
   if (instance) {
     transforms_.resize(count);
@@ -269,6 +285,16 @@ void Geometry::setTimeRange(float start, float end) {
 
 void Geometry::setVertexAttributeCount(unsigned count) {
   attributes_.resize(count);
+  markModified();
+}
+
+void Geometry::setSubdivisionMode(unsigned topology, int mode) {
+  subdivision().setMode(topology, mode);
+  markModified();
+}
+
+void Geometry::setVertexAttributeTopology(unsigned attribute, unsigned topology) {
+  subdivision().setAttributeTopology(attribute, topology, vertexAttributeCount());
   markModified();
 }
 
@@ -295,6 +321,7 @@ void Geometry::commit() {
   for (const BufferView& step : vertices_)
     if (step.byteStride != vertices_[0].byteStride)
       fail(RTC_ERROR_INVALID_OPERATION, "stride of vertex buffers have to be identical for each time step");
+  if (isSubdivision()) subdivision_->commit(vertices_);
   committed_ = true;
   ++modCounter_;
 }

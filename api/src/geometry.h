@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "buffer.h"
@@ -13,6 +14,7 @@
 #include "scene/instance_motion.h"
 #include "scene/scene_desc.h"
 #include "ref_counted.h"
+#include "subdivision_geometry.h"
 
 namespace obvh::api {
 
@@ -54,6 +56,9 @@ class Geometry : public RefCounted {
   float timeStart() const { return timeStart_; }
   float timeEnd() const { return timeEnd_; }
   void setVertexAttributeCount(unsigned count);
+  unsigned vertexAttributeCount() const { return unsigned(attributes_.size()); }
+  void setSubdivisionMode(unsigned topology, int mode);
+  void setVertexAttributeTopology(unsigned attribute, unsigned topology);
   void setMask(unsigned mask);
   void setBuildQuality(int quality);
   int buildQuality() const { return quality_; }
@@ -98,6 +103,11 @@ class Geometry : public RefCounted {
   const BufferView& indexBuffer() const { return index_; }
   const BufferView& vertexBuffer(unsigned timeStep = 0) const { return vertices_.at(timeStep); }
   bool isQuadMesh() const { return type_ == RTC_GEOMETRY_TYPE_QUAD; }
+  bool isSubdivision() const { return type_ == RTC_GEOMETRY_TYPE_SUBDIVISION; }
+  // Subdivision geometries' own buffers, settings and committed control meshes; throws
+  // RTC_ERROR_INVALID_OPERATION on other types, as Embree answers subdivision calls there.
+  SubdivisionGeometry& subdivision();
+  const SubdivisionGeometry& subdivision() const;
   bool isGridMesh() const { return type_ == RTC_GEOMETRY_TYPE_GRID; }
   // Float3 vertices and a primitive buffer: indices (triangles, quads) or RTCGrid records (grids,
   // whose buffer indexBuffer() returns too).
@@ -127,7 +137,8 @@ class Geometry : public RefCounted {
   // Curves: Embree takes a tessellation rate and a flags buffer for every curve type, but only flat
   // cubic curves (tessellation) and round linear curves (flags) read them. The flags buffer is
   // kept (the application may read it back; obvh has no round linear curves yet), the rate is what
-  // flat cubic curves are cut into (Embree's default 4).
+  // flat cubic curves are cut into (Embree's default 4). Subdivision geometries take the rate as
+  // the segments along every edge without a level buffer (default 2).
   void setTessellationRate(float rate);
   float tessellationRate() const { return tessellationRate_; }
   // Vertex attribute view for interpolation; throws for a slot the geometry does not have.
@@ -147,6 +158,7 @@ class Geometry : public RefCounted {
   std::vector<BufferView> attributes_;
   std::vector<BufferView> tangents_;  // Hermite curves, per time step
   BufferView flags_;  // curves
+  std::unique_ptr<SubdivisionGeometry> subdivision_;
   unsigned mask_ = 0xFFFFFFFFu;
   float tessellationRate_ = 4.f;
   int quality_ = RTC_BUILD_QUALITY_MEDIUM;

@@ -56,7 +56,8 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType typeArgumen
     if (!isKnownGeometryType(type)) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
     const bool implemented = type == RTC_GEOMETRY_TYPE_TRIANGLE || type == RTC_GEOMETRY_TYPE_QUAD ||
                              type == RTC_GEOMETRY_TYPE_GRID || type == RTC_GEOMETRY_TYPE_USER ||
-                             type == RTC_GEOMETRY_TYPE_INSTANCE || Geometry::isShapeType(type);
+                             type == RTC_GEOMETRY_TYPE_INSTANCE || type == RTC_GEOMETRY_TYPE_SUBDIVISION ||
+                             Geometry::isShapeType(type);
     if (!implemented)
       fail(RTC_ERROR_INVALID_OPERATION, "geometry type " + std::to_string(int(type)) +
                                             " is not supported by obvh yet (triangles, quads, grids, user geometry, "
@@ -202,31 +203,61 @@ RTC_API void rtcGetGeometryTransform(RTCGeometry geometry, float time, RTCFormat
 RTC_API void rtcSetGeometryTessellationRate(RTCGeometry geometry, float rate) {
   withGeometry(geometry, [&](Geometry& g) { g.setTessellationRate(rate); });
 }
-RTC_API void rtcSetGeometryTopologyCount(RTCGeometry geometry, unsigned int) { failForThisGeometry(geometry); }
-RTC_API void rtcSetGeometrySubdivisionMode(RTCGeometry geometry, unsigned int, RTCSubdivisionMode) {
-  failForThisGeometry(geometry);
+RTC_API void rtcSetGeometryTopologyCount(RTCGeometry geometry, unsigned int count) {
+  withGeometry(geometry, [&](Geometry& g) { g.subdivision().setTopologyCount(count); });
 }
-RTC_API void rtcSetGeometryVertexAttributeTopology(RTCGeometry geometry, unsigned int, unsigned int) {
-  failForThisGeometry(geometry);
+RTC_API void rtcSetGeometrySubdivisionMode(RTCGeometry geometry, unsigned int topologyID, RTCSubdivisionMode mode) {
+  withGeometry(geometry, [&](Geometry& g) { g.setSubdivisionMode(topologyID, enumBits(mode)); });
+}
+RTC_API void rtcSetGeometryVertexAttributeTopology(RTCGeometry geometry, unsigned int attributeID, unsigned int topologyID) {
+  withGeometry(geometry, [&](Geometry& g) { g.setVertexAttributeTopology(attributeID, topologyID); });
 }
 RTC_API void rtcSetGeometryDisplacementFunction(RTCGeometry geometry, RTCDisplacementFunctionN) {
   failForThisGeometry(geometry);
 }
 
 namespace {
-unsigned failHalfEdge(RTCGeometry geometry) {
-  failForThisGeometry(geometry);
-  return RTC_INVALID_GEOMETRY_ID;
+
+// Half-edge queries read the committed control mesh of a subdivision geometry. Embree asserts on
+// an uncommitted geometry or an edge past the end; obvh reports RTC_ERROR_INVALID_ARGUMENT.
+template <typename Query>
+unsigned halfEdgeQuery(RTCGeometry geometry, unsigned topologyID, Query query) {
+  Geometry* g = Geometry::from(geometry);
+  return guarded(g ? g->device() : nullptr, unsigned(RTC_INVALID_GEOMETRY_ID), [&] {
+    requireHandle(g);
+    const obvh::SubdivTopology* topology = g->subdivision().topology(topologyID);
+    if (!topology) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid topology (not committed, or without index buffer)");
+    return unsigned(query(*topology));
+  });
 }
+
+uint32_t checkedHalfEdge(const obvh::SubdivTopology& topology, unsigned edgeID) {
+  if (edgeID >= topology.halfEdgeCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid half-edge ID");
+  return edgeID;
+}
+
 }  // namespace
 
-RTC_API unsigned int rtcGetGeometryFirstHalfEdge(RTCGeometry geometry, unsigned int) { return failHalfEdge(geometry); }
-RTC_API unsigned int rtcGetGeometryFace(RTCGeometry geometry, unsigned int) { return failHalfEdge(geometry); }
-RTC_API unsigned int rtcGetGeometryNextHalfEdge(RTCGeometry geometry, unsigned int) { return failHalfEdge(geometry); }
-RTC_API unsigned int rtcGetGeometryPreviousHalfEdge(RTCGeometry geometry, unsigned int) {
-  return failHalfEdge(geometry);
+RTC_API unsigned int rtcGetGeometryFirstHalfEdge(RTCGeometry geometry, unsigned int faceID) {
+  return halfEdgeQuery(geometry, 0, [&](const obvh::SubdivTopology& t) {
+    if (faceID >= t.faceCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid face ID");
+    return t.firstHalfEdge(faceID);
+  });
 }
-RTC_API unsigned int rtcGetGeometryOppositeHalfEdge(RTCGeometry geometry, unsigned int, unsigned int) {
-  return failHalfEdge(geometry);
+RTC_API unsigned int rtcGetGeometryFace(RTCGeometry geometry, unsigned int edgeID) {
+  return halfEdgeQuery(geometry, 0, [&](const obvh::SubdivTopology& t) { return t.faceOfEdge(checkedHalfEdge(t, edgeID)); });
+}
+RTC_API unsigned int rtcGetGeometryNextHalfEdge(RTCGeometry geometry, unsigned int edgeID) {
+  return halfEdgeQuery(geometry, 0, [&](const obvh::SubdivTopology& t) { return t.next(checkedHalfEdge(t, edgeID)); });
+}
+RTC_API unsigned int rtcGetGeometryPreviousHalfEdge(RTCGeometry geometry, unsigned int edgeID) {
+  return halfEdgeQuery(geometry, 0, [&](const obvh::SubdivTopology& t) { return t.previous(checkedHalfEdge(t, edgeID)); });
+}
+// A boundary half-edge is its own opposite (as Embree answers).
+RTC_API unsigned int rtcGetGeometryOppositeHalfEdge(RTCGeometry geometry, unsigned int topologyID, unsigned int edgeID) {
+  return halfEdgeQuery(geometry, topologyID, [&](const obvh::SubdivTopology& t) {
+    const uint32_t opposite = t.opposite(checkedHalfEdge(t, edgeID));
+    return opposite == obvh::SubdivTopology::kNone ? uint32_t(edgeID) : opposite;
+  });
 }
 

@@ -15,6 +15,7 @@
 #include "enum_bits.h"
 #include "geometry.h"
 #include "intersect/curve_basis.h"
+#include "subdiv/patch_eval.h"
 
 using namespace obvh::api;
 
@@ -146,10 +147,57 @@ void interpolateHermite(const Geometry& g, const BufferView& values, int type, u
   }
 }
 
+struct AttributeSource {
+  const BufferView* values;
+};
+
+void readAttribute(const void* context, uint32_t vertex, double* out, unsigned valueCount) {
+  const float* item = itemAt(*static_cast<const AttributeSource*>(context)->values, vertex, valueCount);
+  for (unsigned k = 0; k < valueCount; ++k) out[k] = item[k];
+}
+
+// A subdivision face's values on the limit surface of the topology the buffer uses, with exact
+// derivatives. Faces of other than four vertices take Embree's subpatch encoding of (u, v).
+void interpolateSubdivision(const Geometry& g, const BufferView& values, int type, unsigned slot, unsigned primID,
+                            float u, float v, float* const outputs[6], unsigned valueCount) {
+  const unsigned topologyID = type == RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE ? g.subdivision().attributeTopology(slot) : 0u;
+  const obvh::SubdivTopology* topology = g.subdivision().topology(topologyID);
+  if (!topology) fail(RTC_ERROR_INVALID_OPERATION, "geometry not committed, or an index buffer is not set");
+  if (primID >= topology->faceCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid primitive ID");
+  if (!topology->present(primID)) fail(RTC_ERROR_INVALID_ARGUMENT, "the face is a hole or invalid");
+  const uint32_t first = topology->firstHalfEdge(primID);
+  for (uint32_t i = 0; i < topology->faceSize(primID); ++i) itemAt(values, topology->vertexOf(first + i), valueCount);
+  int subpatch = 0;
+  double pu = u, pv = v;
+  if (topology->faceSize(primID) != 4) {
+    const float l = std::floor(0.5f * u), h = std::floor(0.5f * v);
+    subpatch = int(4.f * h + l);
+    if (subpatch < 0 || subpatch >= int(topology->faceSize(primID)))
+      fail(RTC_ERROR_INVALID_ARGUMENT, "(u, v) names no subpatch of the face");
+    pu = 2.0 * (0.5 * double(u) - double(l)) - 0.5;
+    pv = 2.0 * (0.5 * double(v) - double(h)) - 0.5;
+  }
+  AttributeSource source{&values};
+  struct Reader {
+    static void read(const void* context, uint32_t vertex, double* out) {
+      const auto* self = static_cast<const std::pair<const AttributeSource*, unsigned>*>(context);
+      readAttribute(self->first, vertex, out, self->second);
+    }
+  };
+  const std::pair<const AttributeSource*, unsigned> context{&source, valueCount};
+  const obvh::PatchPoint point = obvh::evaluatePatch(
+      obvh::facePatch(*topology, primID, subpatch, int(valueCount), &Reader::read, &context), pu, pv);
+  const std::vector<double>* results[6] = {&point.P, &point.dPdu, &point.dPdv, &point.ddPdudu, &point.ddPdvdv, &point.ddPdudv};
+  for (int s = 0; s < 6; ++s)
+    if (outputs[s])
+      for (unsigned k = 0; k < valueCount; ++k) outputs[s][k] = float((*results[s])[k]);
+}
+
 void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int type, unsigned slot, float* P,
                     float* dPdu, float* dPdv, float* ddPdudu, float* ddPdvdv, float* ddPdudv, unsigned valueCount) {
-  if (!g.isMesh() && !g.isCurve())
-    fail(RTC_ERROR_INVALID_OPERATION, "rtcInterpolate is supported for triangle, quad and grid meshes and curves");
+  if (!g.isMesh() && !g.isCurve() && !g.isSubdivision())
+    fail(RTC_ERROR_INVALID_OPERATION,
+         "rtcInterpolate is supported for triangle, quad, grid and subdivision meshes and curves");
   const BufferView* values = nullptr;
   if (type == RTC_BUFFER_TYPE_VERTEX || (type == RTC_BUFFER_TYPE_TANGENT && g.isHermite())) {
     if (slot >= g.timeStepCount()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer slot");
@@ -158,6 +206,11 @@ void interpolateOne(const Geometry& g, unsigned primID, float u, float v, int ty
     values = &g.attributeBuffer(slot);
   } else {
     fail(RTC_ERROR_INVALID_ARGUMENT, "invalid buffer type for interpolation");
+  }
+  if (g.isSubdivision()) {
+    if (!values->bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");
+    float* const outputs[6] = {P, dPdu, dPdv, ddPdudu, ddPdvdv, ddPdudv};
+    return interpolateSubdivision(g, *values, type, slot, primID, u, v, outputs, valueCount);
   }
   const BufferView& index = g.indexBuffer();
   if (!values->bound() || !index.bound()) fail(RTC_ERROR_INVALID_OPERATION, "buffer not set");

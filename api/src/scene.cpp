@@ -97,6 +97,30 @@ MeshDesc meshOf(const Geometry& g, uint32_t geomID) {
   return mesh;
 }
 
+// A subdivision geometry is traced as the tessellation its commit made (none without its buffers).
+bool subdivisionMeshOf(const Geometry& g, uint32_t geomID, MeshDesc& mesh) {
+  const obvh::SubdivTessellation* t = g.subdivision().tessellation();
+  if (!t || t->cells.empty()) return false;
+  mesh.vertices = reinterpret_cast<const unsigned char*>(t->vertices.data());
+  mesh.vertexStride = sizeof(Vec3f);
+  mesh.vertexCount = t->vertices.size();
+  mesh.indices = reinterpret_cast<const unsigned char*>(t->cellCorners.data());
+  mesh.indexStride = 4 * sizeof(uint32_t);
+  mesh.primCount = t->cells.size();
+  mesh.subdivCells = t->cells.data();
+  mesh.topology = MeshTopology::SubdivCells;
+  mesh.geomID = geomID;
+  mesh.mask = g.mask();
+  if (!g.subdivision().laterSteps().empty()) {
+    mesh.timeStepVertices.push_back(mesh.vertices);
+    for (const std::vector<Vec3f>& step : g.subdivision().laterSteps())
+      mesh.timeStepVertices.push_back(reinterpret_cast<const unsigned char*>(step.data()));
+    mesh.timeStart = g.timeStart();
+    mesh.timeEnd = g.timeEnd();
+  }
+  return true;
+}
+
 // The vertex buffers of every time step are set and all of one size (Embree's geometry
 // verification); else nothing of the geometry is built.
 bool timeStepVerticesComplete(const Geometry& g) {
@@ -254,6 +278,11 @@ void Scene::rebuild() {
       case RTC_GEOMETRY_TYPE_GRID:
         if (meshBuffersComplete(*g)) desc.meshes.push_back(meshOf(*g, uint32_t(id)));
         break;
+      case RTC_GEOMETRY_TYPE_SUBDIVISION: {
+        MeshDesc mesh;
+        if (subdivisionMeshOf(*g, uint32_t(id), mesh)) desc.meshes.push_back(mesh);
+        break;
+      }
       case RTC_GEOMETRY_TYPE_SPHERE_POINT:
       case RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE:
       case RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE:

@@ -15,11 +15,14 @@ enum class TriangleKind : uint32_t {
   QuadFirstHalf = 1,
   QuadSecondHalf = 2,
   GridFirstHalf = 3,
-  GridSecondHalf = 4
+  GridSecondHalf = 4,
+  SubdivFirstHalf = 5,
+  SubdivSecondHalf = 6
 };
 
 inline bool isSecondHalf(TriangleKind kind) {
-  return kind == TriangleKind::QuadSecondHalf || kind == TriangleKind::GridSecondHalf;
+  return kind == TriangleKind::QuadSecondHalf || kind == TriangleKind::GridSecondHalf ||
+         kind == TriangleKind::SubdivSecondHalf;
 }
 inline bool isGridCell(TriangleKind kind) {
   return kind == TriangleKind::GridFirstHalf || kind == TriangleKind::GridSecondHalf;
@@ -32,6 +35,18 @@ struct GridCell {
   uint32_t gridPrimID = 0;
   uint16_t x = 0, y = 0;              // the cell's first vertex column and row
   uint16_t columns = 1, rows = 1;     // cells along u and v (the grid's width - 1, height - 1)
+};
+
+inline bool isSubdivCell(TriangleKind kind) {
+  return kind == TriangleKind::SubdivFirstHalf || kind == TriangleKind::SubdivSecondHalf;
+}
+
+// A cell of a subdivision surface's tessellation (subdiv/subdiv_tessellation.h): its triangles carry
+// the cell's index in the scene's table of cells as primID; a hit reports the face and the (u, v)
+// interpolated from the cell's corners (in Embree's encoding for subpatches of non-quad faces).
+struct SubdivCell {
+  uint32_t facePrimID = 0;
+  float u[4] = {0.f, 1.f, 1.f, 0.f}, v[4] = {0.f, 0.f, 1.f, 1.f};  // corners (i, j), (i+1, j), (i+1, j+1), (i, j+1)
 };
 
 struct StoredTriangle {

@@ -31,8 +31,10 @@ void splitQuad(const Vec3f v[4], uint32_t geomID, uint32_t primID, TriangleKind 
 }
 
 // Fills the one or two triangles of primitive prim; returns false when the primitive is invalid.
-bool loadPrimitive(const MeshDesc& mesh, size_t prim, StoredTriangle out[2]) {
-  const bool quads = mesh.topology == MeshTopology::Quads;
+// A subdivision cell's triangles get primID = cellBase + prim, their cell's index in the scene's table.
+bool loadPrimitive(const MeshDesc& mesh, size_t prim, uint32_t cellBase, StoredTriangle out[2]) {
+  const bool subdiv = mesh.topology == MeshTopology::SubdivCells;
+  const bool quads = mesh.topology == MeshTopology::Quads || subdiv;
   const int cornerCount = quads ? 4 : 3;
   uint32_t index[4];
   std::memcpy(index, mesh.indices + prim * mesh.indexStride, sizeof(uint32_t) * cornerCount);
@@ -42,6 +44,10 @@ bool loadPrimitive(const MeshDesc& mesh, size_t prim, StoredTriangle out[2]) {
   const uint32_t primID = uint32_t(prim);
   if (!quads) {
     out[0] = {v[0], v[1], v[2], mesh.geomID, primID, TriangleKind::Triangle};
+    return true;
+  }
+  if (subdiv) {
+    splitQuad(v, mesh.geomID, cellBase + primID, TriangleKind::SubdivFirstHalf, TriangleKind::SubdivSecondHalf, out);
     return true;
   }
   splitQuad(v, mesh.geomID, primID, TriangleKind::QuadFirstHalf, TriangleKind::QuadSecondHalf, out);
@@ -99,6 +105,7 @@ struct SlotTable {
   std::vector<StoredTriangle> triangles;
   std::vector<unsigned char> valid;  // per slot
   std::vector<GridCell> gridCells;
+  std::vector<SubdivCell> subdivCells;
 };
 
 SlotTable fillSlots(const std::vector<MeshDesc>& meshes) {
@@ -114,7 +121,7 @@ SlotTable fillSlots(const std::vector<MeshDesc>& meshes) {
       cells = gridCellStart[m].back();
       slots = 2 * cells;
     } else {
-      slots = mesh.primCount * (mesh.topology == MeshTopology::Quads ? 2 : 1);
+      slots = mesh.primCount * (mesh.topology == MeshTopology::Triangles ? 1 : 2);
     }
     slotOffset[m + 1] = slotOffset[m] + slots;
     cellOffset[m + 1] = cellOffset[m] + cells;
@@ -128,6 +135,10 @@ SlotTable fillSlots(const std::vector<MeshDesc>& meshes) {
   out.triangles.resize(slotCount);
   out.gridCells.resize(cellOffset.back());
   out.valid.assign(slotCount, 0);
+  for (const MeshDesc& mesh : meshes)
+    if (mesh.topology == MeshTopology::SubdivCells)
+      out.subdivCells.insert(out.subdivCells.end(), mesh.subdivCells, mesh.subdivCells + mesh.primCount);
+  size_t subdivCellBase = 0;
   for (size_t m = 0; m < meshes.size(); ++m) {
     const MeshDesc& mesh = meshes[m];
     if (mesh.topology == MeshTopology::Grids) {
@@ -141,14 +152,16 @@ SlotTable fillSlots(const std::vector<MeshDesc>& meshes) {
       });
       continue;
     }
-    const size_t perPrim = mesh.topology == MeshTopology::Quads ? 2 : 1;
+    const size_t perPrim = mesh.topology == MeshTopology::Triangles ? 1 : 2;
+    const uint32_t cellBase = uint32_t(subdivCellBase);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.primCount, 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t prim = r.begin(); prim < r.end(); ++prim) {
         const size_t slot = slotOffset[m] + prim * perPrim;
-        const bool ok = loadPrimitive(mesh, prim, &out.triangles[slot]);
+        const bool ok = loadPrimitive(mesh, prim, cellBase, &out.triangles[slot]);
         for (size_t h = 0; h < perPrim; ++h) out.valid[slot + h] = ok;
       }
     });
+    if (mesh.topology == MeshTopology::SubdivCells) subdivCellBase += mesh.primCount;
   }
   return out;
 }
@@ -160,6 +173,7 @@ CollectedPrimitives collectPrimitives(const std::vector<MeshDesc>& meshes) {
   CollectedPrimitives out;
   out.triangles = std::move(slots.triangles);
   out.gridCells = std::move(slots.gridCells);
+  out.subdivCells = std::move(slots.subdivCells);
   if (std::find(slots.valid.begin(), slots.valid.end(), 0) != slots.valid.end()) {
     // Rare (broken input): drop the invalid slots, keeping the order of the rest. The cells of a
     // dropped grid stay in the table, unreferenced, so every kept triangle's cell index holds.
@@ -196,8 +210,9 @@ CollectedMotion collectMotionPrimitives(const std::vector<MeshDesc>& meshes) {
       step.vertices = mesh.timeStepVertices[s];
       tables[s] = fillSlots({step});
     }
-    const uint32_t cellBase = uint32_t(out.gridCells.size());
+    const uint32_t cellBase = uint32_t(out.gridCells.size()), subdivBase = uint32_t(out.subdivCells.size());
     out.gridCells.insert(out.gridCells.end(), tables[0].gridCells.begin(), tables[0].gridCells.end());
+    out.subdivCells.insert(out.subdivCells.end(), tables[0].subdivCells.begin(), tables[0].subdivCells.end());
     for (size_t slot = 0; slot < tables[0].triangles.size(); ++slot) {
       bool valid = true;
       for (const SlotTable& t : tables) valid &= t.valid[slot] != 0;
@@ -205,7 +220,9 @@ CollectedMotion collectMotionPrimitives(const std::vector<MeshDesc>& meshes) {
       const StoredTriangle& first = tables[0].triangles[slot];
       MotionTriangle tri;
       tri.geomID = first.geomID;
-      tri.primID = isGridCell(first.kind) ? cellBase + first.primID : first.primID;
+      tri.primID = isGridCell(first.kind)     ? cellBase + first.primID
+                   : isSubdivCell(first.kind) ? subdivBase + first.primID
+                                              : first.primID;
       tri.kind = first.kind;
       tri.firstVertex = uint32_t(out.vertices.size());
       tri.stepCount = uint32_t(steps);

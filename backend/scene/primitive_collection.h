@@ -17,12 +17,13 @@ struct CollectedPrimitives {
   std::vector<StoredTriangle> triangles;  // refs[i].index indexes this table
   std::vector<PrimRef> refs;
   std::vector<GridCell> gridCells;        // the cells of every grid, indexed by their triangles' primID
+  std::vector<SubdivCell> subdivCells;    // the tessellation cells of subdivision surfaces, alike
 };
 
 // Triangles of motion-blurred meshes (more than one time step): their vertices at every step,
 // interpolated linearly within the segment a ray's time falls in.
 struct MotionTriangle {
-  uint32_t geomID = 0, primID = 0;  // primID: a grid cell's index in CollectedMotion::gridCells
+  uint32_t geomID = 0, primID = 0;  // primID: a grid (subdivision) cell's index in CollectedMotion::gridCells (subdivCells)
   TriangleKind kind = TriangleKind::Triangle;
   uint32_t firstVertex = 0;         // three vertices per time step in CollectedMotion::vertices
   uint32_t stepCount = 2;
@@ -38,6 +39,7 @@ struct CollectedMotion {
   std::vector<MotionTriangle> triangles;
   std::vector<Vec3f> vertices;
   std::vector<GridCell> gridCells;
+  std::vector<SubdivCell> subdivCells;
 };
 
 // A primitive is skipped when an index is out of range or one of its vertices is invalid; a grid

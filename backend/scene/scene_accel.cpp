@@ -139,6 +139,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   for (const MeshDesc& mesh : desc.meshes) (mesh.moving() ? moving : still).push_back(mesh);
   CollectedPrimitives collected = collectPrimitives(still);
   gridCells_ = std::move(collected.gridCells);
+  subdivCells_ = std::move(collected.subdivCells);
   motion_ = collectMotionPrimitives(moving);
   buildTriangleTree(collected, options);
 
@@ -216,10 +217,11 @@ void SceneAccel::makeTriangleViews() {
   const TriangleSet set{triangles_.data(),      geometryMasks_.data(),
                         intersectFiltered_.data(), occlusionFiltered_.data(),
                         owner_,                 options_.intersector == IntersectorMode::Fast,
-                        gridCells_.data()};
+                        gridCells_.data(),      subdivCells_.data()};
   motionSet_ = set;
   motionSet_.triangles = nullptr;
   motionSet_.gridCells = motion_.gridCells.data();
+  motionSet_.subdivCells = motion_.subdivCells.data();
   triangleView_ = TriangleBvhView{};
   triangleView4_ = {};
   triangleBvh4_ = {};
@@ -336,6 +338,7 @@ bool SceneAccel::refit(const SceneDesc& desc, const BuildOptions& options) {
   }
   owner_ = desc.owner;
   gridCells_ = collected.gridCells;
+  subdivCells_ = collected.subdivCells;
   tbb::parallel_for(size_t(0), triangles_.size(), [&](size_t i) { triangles_[i] = collected.triangles[order[i]]; });
   refitNode(triangleBvh_, 0, triangles_);
   bounds_ = triangleBvh_.nodes[0].bounds;
@@ -482,6 +485,7 @@ bool SceneAccel::pointQuery(const Vec3f& p, PointQueryCallbacks& callbacks, cons
     b.extend(tri.v2);
     const float r = radius();
     if (!(distanceSquaredToBox(p, b) <= r * r)) return;
+    if (isSubdivCell(tri.kind)) return;  // Embree's point queries skip subdivision surfaces
     const uint32_t primID = isGridCell(tri.kind) ? cells[tri.primID].gridPrimID : tri.primID;
     if (tri.kind != TriangleKind::Triangle && !visitedQuads.insert((uint64_t(tri.geomID) << 32) | primID).second) return;
     changed |= callbacks.visit(owner_, tri.geomID, primID, instance);

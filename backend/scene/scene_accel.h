@@ -174,6 +174,7 @@ class SceneAccel {
   TriangleSet motionSet_;
 
   std::vector<GridCell> gridCells_;  // grid cells, indexed by the primID of their triangles
+  std::vector<SubdivCell> subdivCells_;  // subdivision tessellation cells, alike
   std::vector<uint32_t> geometryMasks_;
   std::vector<uint8_t> intersectFiltered_, occlusionFiltered_;
   const void* owner_ = nullptr;

@@ -20,6 +20,7 @@ struct TriangleSet {
   const void* owner = nullptr;                // passed back to QueryCallbacks
   bool fast = false;                          // Moeller-Trumbore instead of the watertight test
   const GridCell* gridCells = nullptr;        // indexed by the primID of grid-cell triangles
+  const SubdivCell* subdivCells = nullptr;    // indexed by the primID of subdivision-cell triangles
 };
 
 // The watertight test's per-ray constants (three divisions), computed when the ray first reaches a
@@ -58,6 +59,13 @@ inline Hit makeTriangleHit(const TriangleSet& set, const Vec3f& v0, const Vec3f&
     hit.primID = cell.gridPrimID;
     hit.u = (float(cell.x) + hit.u) / float(cell.columns);
     hit.v = (float(cell.y) + hit.v) / float(cell.rows);
+  } else if (isSubdivCell(kind)) {
+    // The cell's (u, v) interpolated over the triangle hit, as over (v0, v1, v3) or (v2, v3, v1).
+    const SubdivCell& cell = set.subdivCells[primID];
+    hit.primID = cell.facePrimID;
+    const int a = secondHalf ? 2 : 0, b = secondHalf ? 3 : 1, c = secondHalf ? 1 : 3;
+    hit.u = cell.u[a] + th.u * (cell.u[b] - cell.u[a]) + th.v * (cell.u[c] - cell.u[a]);
+    hit.v = cell.v[a] + th.u * (cell.v[b] - cell.v[a]) + th.v * (cell.v[c] - cell.v[a]);
   }
   return hit;
 }
@@ -68,7 +76,9 @@ inline Hit makeTriangleHit(const TriangleSet& set, const StoredTriangle& tri, co
 
 // The Embree primitive ID a stored triangle belongs to (a grid's, for the triangles of its cells).
 inline uint32_t embreePrimID(const TriangleSet& set, const StoredTriangle& tri) {
-  return isGridCell(tri.kind) ? set.gridCells[tri.primID].gridPrimID : tri.primID;
+  return isGridCell(tri.kind)     ? set.gridCells[tri.primID].gridPrimID
+         : isSubdivCell(tri.kind) ? set.subdivCells[tri.primID].facePrimID
+                                  : tri.primID;
 }
 
 inline bool needsFilter(const uint8_t* filtered, uint32_t geomID, const QueryState& state) {

@@ -217,6 +217,90 @@ TEST(ErrorConformance, GridBufferMisuse) {
   });
 }
 
+// Subdivision geometries: their own buffer types, formats and slots, topologies, modes, attribute
+// topologies and the half-edge queries; and the same calls on a triangle mesh.
+TEST(ErrorConformance, SubdivisionMisuse) {
+  expectSameErrors([](Recorder& r) {
+    static float v[8 * 3] = {-1, -1, -1, 1, -1, -1, 1, -1, 1, -1, -1, 1, -1, 1, -1, 1, 1, -1, 1, 1, 1, -1, 1, 1};
+    static unsigned idx[20] = {0, 4, 5, 1, 1, 5, 6, 2, 2, 6, 7, 3, 0, 3, 7, 4, 4, 7, 6, 5};
+    static unsigned faces[5] = {4, 4, 4, 4, 4};
+    static float weights[4] = {1, 2, 3, 4};
+    RTCGeometry g = r.lib.rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_SUBDIVISION);
+    r.check("new subdivision geometry");
+    const struct {
+      RTCBufferType type;
+      unsigned slot;
+      RTCFormat format;
+      const char* what;
+    } bindings[] = {
+        {RTC_BUFFER_TYPE_FACE, 0, RTC_FORMAT_FLOAT, "face FLOAT"}, {RTC_BUFFER_TYPE_FACE, 1, RTC_FORMAT_UINT, "face slot 1"},
+        {RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, "index UINT3"}, {RTC_BUFFER_TYPE_INDEX, 1, RTC_FORMAT_UINT, "index slot 1"},
+        {RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, "vertex FLOAT4"},
+        {RTC_BUFFER_TYPE_EDGE_CREASE_INDEX, 0, RTC_FORMAT_UINT, "edge crease index UINT"},
+        {RTC_BUFFER_TYPE_EDGE_CREASE_INDEX, 1, RTC_FORMAT_UINT2, "edge crease index slot 1"},
+        {RTC_BUFFER_TYPE_EDGE_CREASE_WEIGHT, 0, RTC_FORMAT_UINT, "edge crease weight UINT"},
+        {RTC_BUFFER_TYPE_VERTEX_CREASE_INDEX, 0, RTC_FORMAT_UINT2, "vertex crease index UINT2"},
+        {RTC_BUFFER_TYPE_VERTEX_CREASE_WEIGHT, 0, RTC_FORMAT_UINT, "vertex crease weight UINT"},
+        {RTC_BUFFER_TYPE_HOLE, 0, RTC_FORMAT_FLOAT, "hole FLOAT"}, {RTC_BUFFER_TYPE_HOLE, 1, RTC_FORMAT_UINT, "hole slot 1"},
+        {RTC_BUFFER_TYPE_LEVEL, 0, RTC_FORMAT_UINT, "level UINT"}, {RTC_BUFFER_TYPE_LEVEL, 1, RTC_FORMAT_FLOAT, "level slot 1"},
+        {RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, "grid buffer"}, {RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, "flags buffer"},
+        {RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE, 0, RTC_FORMAT_FLOAT3, "attribute without a count"},
+        {RTC_BUFFER_TYPE_LEVEL, 0, RTC_FORMAT_FLOAT, "levels"}};
+    for (const auto& b : bindings) {
+      r.lib.rtcSetSharedGeometryBuffer(g, b.type, b.slot, b.format, weights, 0, 4, 4);
+      r.check(b.what);
+    }
+    r.lib.rtcSetGeometryTopologyCount(g, 0);
+    r.check("topology count 0");
+    r.lib.rtcSetGeometryTopologyCount(g, 2);
+    r.check("topology count 2");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 1, RTC_FORMAT_UINT, idx, 0, 4, 20);
+    r.check("index slot 1 of two topologies");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 2, RTC_FORMAT_UINT, idx, 0, 4, 20);
+    r.check("index slot 2 of two topologies");
+    r.lib.rtcSetGeometrySubdivisionMode(g, 1, RTC_SUBDIVISION_MODE_PIN_CORNERS);
+    r.check("mode of topology 1");
+    r.lib.rtcSetGeometrySubdivisionMode(g, 2, RTC_SUBDIVISION_MODE_PIN_CORNERS);
+    r.check("mode of topology 2");
+    r.lib.rtcSetGeometryVertexAttributeCount(g, 2);
+    r.lib.rtcSetGeometryVertexAttributeTopology(g, 1, 1);
+    r.check("attribute 1 on topology 1");
+    r.lib.rtcSetGeometryVertexAttributeTopology(g, 1, 2);
+    r.check("attribute 1 on topology 2");
+    r.lib.rtcSetGeometryVertexAttributeTopology(g, 5, 0);
+    r.check("attribute 5");
+    r.lib.rtcSetGeometryTessellationRate(g, 3.f);
+    r.check("tessellation rate");
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, v, 0, 12, 8);
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, idx, 0, 4, 20);
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_FACE, 0, RTC_FORMAT_UINT, faces, 0, 4, 5);
+    r.lib.rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_LEVEL, 0, RTC_FORMAT_FLOAT, weights, 0, 0, 20);
+    r.check("buffers of an open cube");
+    r.lib.rtcCommitGeometry(g);
+    r.check("commit");
+    r.check("face 6: " + std::to_string(r.lib.rtcGetGeometryFirstHalfEdge(g, 6)));
+    r.check("opposite of edge 0 in topology 3: " + std::to_string(r.lib.rtcGetGeometryOppositeHalfEdge(g, 3, 0)));
+    r.check("opposite of boundary edge 3: " + std::to_string(r.lib.rtcGetGeometryOppositeHalfEdge(g, 0, 3)));
+    RTCGeometry t = r.lib.rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    r.lib.rtcSetGeometryTessellationRate(t, 3.f);
+    r.check("tessellation rate of a triangle mesh");
+    r.lib.rtcSetGeometryTopologyCount(t, 2);
+    r.check("topology count of a triangle mesh");
+    r.lib.rtcSetGeometrySubdivisionMode(t, 0, RTC_SUBDIVISION_MODE_PIN_ALL);
+    r.check("mode of a triangle mesh");
+    r.lib.rtcSetGeometryVertexAttributeTopology(t, 0, 0);
+    r.check("attribute topology of a triangle mesh");
+    r.check("first half-edge of a triangle mesh: " + std::to_string(r.lib.rtcGetGeometryFirstHalfEdge(t, 0)));
+    for (RTCBufferType type : {RTC_BUFFER_TYPE_FACE, RTC_BUFFER_TYPE_LEVEL, RTC_BUFFER_TYPE_HOLE}) {
+      r.lib.rtcSetSharedGeometryBuffer(t, type, 0, RTC_FORMAT_UINT, idx, 0, 4, 4);
+      r.check("subdivision buffer on a triangle mesh");
+    }
+    r.lib.rtcReleaseGeometry(t);
+    r.lib.rtcReleaseGeometry(g);
+    r.check("release");
+  });
+}
+
 // Motion blur: time step counts, a vertex buffer per step of one stride, time ranges.
 TEST(ErrorConformance, MotionBlurMisuse) {
   expectSameErrors([](Recorder& r) {
