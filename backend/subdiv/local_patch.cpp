@@ -13,7 +13,17 @@ uint64_t edgeKey(int a, int b) {
 
 float decremented(float sharpness) { return sharpness > 1.f ? sharpness - 1.f : 0.f; }
 
-// Edges and incidences of a patch, for one subdivision step or a regularity check.
+// A run of indices in one of Adjacency's flat lists.
+struct IndexSpan {
+  const int* first;
+  const int* last;
+  const int* begin() const { return first; }
+  const int* end() const { return last; }
+  size_t size() const { return size_t(last - first); }
+};
+
+// Edges and incidences of a patch, for one subdivision step or a regularity check. Flat lists
+// (patches are small and built many times a face: allocations, not arithmetic, were the cost).
 struct Adjacency {
   struct Edge {
     int a = 0, b = 0;
@@ -22,36 +32,59 @@ struct Adjacency {
     float sharpness = 0.f;
   };
   std::vector<Edge> edges;
-  std::vector<int> cornerEdge;                 // per face corner i: the edge (i, i + 1)
-  std::vector<std::vector<int>> vertexEdges;   // per vertex
-  std::vector<std::vector<int>> vertexFaces;   // per vertex
-  std::unordered_map<uint64_t, int> edgeIndex;
+  std::vector<int> cornerEdge;                    // per face corner i: the edge (i, i + 1)
+  std::vector<std::pair<uint64_t, int>> byKey;    // (edge key, edge), sorted by key
+  std::vector<int> edgeStart, edgeList;           // per vertex: its edges
+  std::vector<int> faceStart, faceList;           // per vertex: its faces (once per corner)
 
-  explicit Adjacency(const LocalPatch& p) : cornerEdge(p.faceVertices.size()), vertexEdges(p.vertexCount()),
-                                             vertexFaces(p.vertexCount()) {
+  explicit Adjacency(const LocalPatch& p) : cornerEdge(p.faceVertices.size()) {
+    const int nv = p.vertexCount();
+    std::vector<std::pair<uint64_t, int>> corners;  // (edge key, corner)
+    std::vector<int> faceOfCorner(p.faceVertices.size());
+    corners.reserve(p.faceVertices.size());
     for (int f = 0; f < p.faceCount(); ++f) {
       const uint32_t start = p.faceStart[f], n = p.faceStart[f + 1] - start;
       for (uint32_t i = 0; i < n; ++i) {
         const int a = p.faceVertices[start + i], b = p.faceVertices[start + (i + 1) % n];
-        const auto [it, inserted] = edgeIndex.emplace(edgeKey(a, b), int(edges.size()));
-        if (inserted) {
-          Edge e;
-          e.a = a, e.b = b, e.sharpness = p.sharpness(a, b);
-          edges.push_back(e);
-          vertexEdges[a].push_back(it->second);
-          vertexEdges[b].push_back(it->second);
-        }
-        Edge& e = edges[it->second];
-        if (e.faceCount < 2) e.faces[e.faceCount] = f;
-        ++e.faceCount;
-        cornerEdge[start + i] = it->second;
-        vertexFaces[a].push_back(f);
+        corners.emplace_back(edgeKey(a, b), int(start + i));
+        faceOfCorner[start + i] = f;
       }
     }
+    std::sort(corners.begin(), corners.end());
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const int corner = corners[k].second;
+      if (k == 0 || corners[k].first != corners[k - 1].first) {
+        const int f = faceOfCorner[corner];
+        const uint32_t start = p.faceStart[f], n = p.faceStart[f + 1] - start;
+        Edge e;
+        e.a = p.faceVertices[corner];
+        e.b = p.faceVertices[start + (uint32_t(corner) - start + 1) % n];
+        e.sharpness = p.sharpness(e.a, e.b);
+        byKey.emplace_back(corners[k].first, int(edges.size()));
+        edges.push_back(e);
+      }
+      Edge& e = edges.back();
+      if (e.faceCount < 2) e.faces[e.faceCount] = faceOfCorner[corner];
+      ++e.faceCount;
+      cornerEdge[corner] = int(edges.size()) - 1;
+    }
+    edgeStart.assign(nv + 1, 0);
+    faceStart.assign(nv + 1, 0);
+    for (const Edge& e : edges) ++edgeStart[e.a + 1], ++edgeStart[e.b + 1];
+    for (int v : p.faceVertices) ++faceStart[v + 1];
+    for (int v = 0; v < nv; ++v) edgeStart[v + 1] += edgeStart[v], faceStart[v + 1] += faceStart[v];
+    edgeList.resize(edgeStart.back());
+    faceList.resize(faceStart.back());
+    std::vector<int> edgeFill(edgeStart.begin(), edgeStart.end() - 1), faceFill(faceStart.begin(), faceStart.end() - 1);
+    for (int e = 0; e < int(edges.size()); ++e) edgeList[edgeFill[edges[e].a]++] = e, edgeList[edgeFill[edges[e].b]++] = e;
+    for (size_t c = 0; c < p.faceVertices.size(); ++c) faceList[faceFill[p.faceVertices[c]]++] = faceOfCorner[c];
   }
+  IndexSpan vertexEdges(int v) const { return {edgeList.data() + edgeStart[v], edgeList.data() + edgeStart[v + 1]}; }
+  IndexSpan vertexFaces(int v) const { return {faceList.data() + faceStart[v], faceList.data() + faceStart[v + 1]}; }
   int edge(int a, int b) const {
-    const auto it = edgeIndex.find(edgeKey(a, b));
-    return it == edgeIndex.end() ? -1 : it->second;
+    const uint64_t key = edgeKey(a, b);
+    const auto it = std::lower_bound(byKey.begin(), byKey.end(), std::make_pair(key, 0));
+    return it != byKey.end() && it->first == key ? it->second : -1;
   }
   int otherFace(int a, int b, int face) const {
     const int e = edge(a, b);
@@ -71,6 +104,8 @@ VertexRule ruleFor(int sharpEdges, float vertexSharpness) {
 void addScaled(double* out, const double* in, double scale, int dim) {
   for (int k = 0; k < dim; ++k) out[k] += scale * in[k];
 }
+
+}  // namespace
 
 LocalPatch subdivide(const LocalPatch& p) {
   const Adjacency adj(p);
@@ -104,8 +139,8 @@ LocalPatch subdivide(const LocalPatch& p) {
   }
   std::vector<double> parentPos(dim), childPos(dim);
   for (int v = 0; v < nv; ++v) {
-    const std::vector<int>& vEdges = adj.vertexEdges[v];
-    const std::vector<int>& vFaces = adj.vertexFaces[v];
+    const IndexSpan vEdges = adj.vertexEdges(v);
+    const IndexSpan vFaces = adj.vertexFaces(v);
     const float sv = p.vertexSharpness[v];
     c.vertexSharpness[v] = decremented(sv);
     int sharpNow = 0, sharpNext = 0;
@@ -165,6 +200,8 @@ LocalPatch subdivide(const LocalPatch& p) {
   }
   return c;
 }
+
+namespace {
 
 // The 1-ring of face `target` of c, with that face first and its vertices in the order given.
 LocalPatch extractRing(const LocalPatch& c, int target, const int quad[4]) {
@@ -245,8 +282,7 @@ LocalPatch ringOfFace(const SubdivTopology& topology, uint32_t face, int dim, Co
   return p;
 }
 
-LocalPatch childOfQuad(const LocalPatch& patch, int qu, int qv) {
-  const LocalPatch c = subdivide(patch);
+LocalPatch quadrantChild(const LocalPatch& c, int qu, int qv) {
   // Child i of face 0 is (corner i, edge point i, face point, edge point i - 1); rotate it so that
   // its first vertex sits at the quadrant's lowest (u, v).
   static const int kChild[2][2] = {{0, 3}, {1, 2}};  // [qu][qv]
@@ -258,8 +294,7 @@ LocalPatch childOfQuad(const LocalPatch& patch, int qu, int qv) {
   return extractRing(c, child, quad);
 }
 
-LocalPatch childAtCorner(const LocalPatch& patch, int corner) {
-  const LocalPatch c = subdivide(patch);
+LocalPatch cornerChild(const LocalPatch& c, int corner) {
   const int* v = c.faceVertices.data() + c.faceStart[corner];
   const int quad[4] = {v[0], v[1], v[2], v[3]};
   return extractRing(c, corner, quad);
@@ -302,7 +337,7 @@ bool regularControlGrid(const LocalPatch& p, std::vector<double>& grid) {
     const float sv = p.vertexSharpness[V];
     int sharp = 0;
     bool fractional = false;
-    for (int e : adj.vertexEdges[V]) {
+    for (int e : adj.vertexEdges(V)) {
       const float s = adj.edges[e].sharpness;
       if (s > 0.f) ++sharp;
       if (s > 0.f && std::isfinite(s)) fractional = true;
@@ -312,7 +347,7 @@ bool regularControlGrid(const LocalPatch& p, std::vector<double>& grid) {
     const int* cells = kCornerCells[k];
     set(cells[0], {{V, 1.0}});
     if (!sharpVN && !sharpVP) {
-      if (sv > 0.f || sharp != 0 || adj.vertexEdges[V].size() != 4 || adj.vertexFaces[V].size() != 4) return false;
+      if (sv > 0.f || sharp != 0 || adj.vertexEdges(V).size() != 4 || adj.vertexFaces(V).size() != 4) return false;
       const int f1 = adj.otherFace(V, P, 0), f3 = adj.otherFace(V, N, 0);
       if (!isQuad(p, f1) || !isQuad(p, f3)) return false;
       const int i1 = indexIn(p, f1, V), i3 = indexIn(p, f3, V);
@@ -373,8 +408,8 @@ void cornerLimits(const LocalPatch& p, std::vector<double>& corners) {
   for (int k = 0; k < 4; ++k) {
     const int V = p.faceVertices[k];
     double* o = corners.data() + size_t(k) * dim;
-    const std::vector<int>& vEdges = adj.vertexEdges[V];
-    const std::vector<int>& vFaces = adj.vertexFaces[V];
+    const IndexSpan vEdges = adj.vertexEdges(V);
+    const IndexSpan vFaces = adj.vertexFaces(V);
     int sharp = 0;
     for (int e : vEdges) sharp += adj.edges[e].sharpness > 0.f;
     const VertexRule rule = ruleFor(sharp, p.vertexSharpness[V]);

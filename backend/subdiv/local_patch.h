@@ -34,12 +34,15 @@ using ControlValues = void (*)(const void* context, uint32_t vertex, double* out
 LocalPatch ringOfFace(const SubdivTopology& topology, uint32_t face, int dim, ControlValues read,
                       const void* context);
 
-// One Catmull-Clark step of the whole patch (values next to its rim are not meaningful), then
-// the 1-ring of one child of face 0: for a quad face, the child of quadrant (qu, qv) in [0,1]^2,
-// ordered so that its (u, v) run along its parent's; for a face of n vertices, the child at
-// vertex `corner`, its u towards the next vertex and its v towards the previous one.
-LocalPatch childOfQuad(const LocalPatch& patch, int qu, int qv);
-LocalPatch childAtCorner(const LocalPatch& patch, int corner);
+// One Catmull-Clark step of the whole patch (values next to its rim are not meaningful); face i of
+// the result is child i of face 0 (at its vertex i) for i below face 0's size.
+LocalPatch subdivide(const LocalPatch& patch);
+// The 1-ring of one child of face 0 of `patch`, from `subdivided` = subdivide(patch): for a quad
+// face, the child of quadrant (qu, qv) in [0,1]^2, ordered so that its (u, v) run along its
+// parent's; for a face of n vertices, the child at vertex `corner`, its u towards the next vertex
+// and its v towards the previous one.
+LocalPatch quadrantChild(const LocalPatch& subdivided, int qu, int qv);
+LocalPatch cornerChild(const LocalPatch& subdivided, int corner);
 
 // The 16 B-spline control points of face 0 (row r along v, column c along u), when the face is a
 // regular quad: its corners are smooth vertices of valence 4, or lie on infinitely sharp creases

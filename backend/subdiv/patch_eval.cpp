@@ -88,6 +88,8 @@ void evaluatePointsAt(const LocalPatch& patch, const std::vector<double>& us, co
   } else {
     rest = which;
   }
+  if (rest.empty()) return;
+  const LocalPatch subdivided = subdivide(patch);
   for (int qu = 0; qu < 2; ++qu)
     for (int qv = 0; qv < 2; ++qv) {
       std::vector<int> inside;
@@ -98,7 +100,7 @@ void evaluatePointsAt(const LocalPatch& patch, const std::vector<double>& us, co
       if (inside.empty()) continue;
       std::vector<double> childU = us, childV = vs;
       for (int i : inside) childU[i] = 2.0 * us[i] - qu, childV[i] = 2.0 * vs[i] - qv;
-      evaluatePointsAt(childOfQuad(patch, qu, qv), childU, childV, inside, depth + 1, out);
+      evaluatePointsAt(quadrantChild(subdivided, qu, qv), childU, childV, inside, depth + 1, out);
     }
 }
 
@@ -120,7 +122,7 @@ PatchPoint evaluatePatch(LocalPatch patch, double u, double v) {
       return out;
     }
     const int qu = u >= 0.5, qv = v >= 0.5;
-    patch = childOfQuad(patch, qu, qv);
+    patch = quadrantChild(subdivide(patch), qu, qv);
     u = 2.0 * u - qu, v = 2.0 * v - qv, scale *= 2.0;
   }
 }
@@ -139,7 +141,7 @@ LocalPatch facePatch(const SubdivTopology& topology, uint32_t face, int subpatch
                      const void* context) {
   LocalPatch ring = ringOfFace(topology, face, dim, read, context);
   if (topology.faceSize(face) == 4) return ring;
-  return childAtCorner(ring, subpatch);
+  return cornerChild(subdivide(ring), subpatch);
 }
 
 }  // namespace obvh
