@@ -13,12 +13,16 @@ constexpr size_t kAlignment = 64;
 }  // namespace
 
 Buffer::Buffer(Device* device, size_t byteSize) : device_(device), size_(byteSize), owned_(true) {
+  // Reported once, before the allocation (post = false), as Embree's memory monitor contract has it:
+  // a cancel there means the application does not count the bytes.
   const size_t allocated = (byteSize + kPadding + kAlignment - 1) / kAlignment * kAlignment;
   device->reportMemory(ssize_t(allocated), false);
   data_ = static_cast<unsigned char*>(std::aligned_alloc(kAlignment, allocated));
-  if (!data_) fail(RTC_ERROR_OUT_OF_MEMORY, "out of memory allocating a buffer");
+  if (!data_) {
+    device->reportMemory(-ssize_t(allocated), true);
+    fail(RTC_ERROR_OUT_OF_MEMORY, "out of memory allocating a buffer");
+  }
   std::memset(data_, 0, allocated);
-  device->reportMemory(ssize_t(allocated), true);
 }
 
 Buffer::Buffer(Device* device, void* shared, size_t byteSize)

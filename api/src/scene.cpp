@@ -10,6 +10,14 @@
 
 namespace obvh::api {
 
+Scene::~Scene() {
+  if (reportedMemory_ == 0) return;
+  try {
+    device_->reportMemory(-ssize_t(reportedMemory_), true);
+  } catch (...) {
+  }
+}
+
 unsigned Scene::attach(Geometry* geometry) {
   std::lock_guard<std::mutex> lock(mutex_);
   unsigned id = 0;
@@ -355,9 +363,12 @@ void Scene::rebuild() {
   singleRaysDirect_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
   if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
+  // Reported after the build (post = true): the application counts it even when it cancels, so it
+  // is recorded as reported before the monitor may throw.
   const size_t memory = accel_.stats().memoryBytes;
-  device_->reportMemory(ssize_t(memory) - ssize_t(reportedMemory_), true);
+  const ssize_t change = ssize_t(memory) - ssize_t(reportedMemory_);
   reportedMemory_ = memory;
+  device_->reportMemory(change, true);
 }
 
 // verbose=2 prints each build as Embree does, with its SAH cost in Embree's convention

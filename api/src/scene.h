@@ -19,6 +19,8 @@ namespace obvh::api {
 class Scene : public RefCounted {
  public:
   explicit Scene(Device* device) : device_(device) {}
+  // Gives the memory it reported back to the device's memory monitor.
+  ~Scene() override;
 
   Device* device() const { return device_.get(); }
 
