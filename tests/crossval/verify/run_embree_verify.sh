@@ -3,9 +3,12 @@
 # LD_LIBRARY_PATH, and with Debian's Embree for comparison; prints pass/fail/skip counts per
 # selected group and in total. Fails when obvh fails a leaf, crashes, or skips more leaves than
 # Embree on the same selection.
-#   run_embree_verify.sh OBVH_LIB_DIR SELECTION_FILE WORK_DIR
+#   run_embree_verify.sh OBVH_LIB_DIR SELECTION_FILE WORK_DIR [PART/PARTS]
+# PART/PARTS (e.g. 2/3) runs every PARTS-th selected group from the PART-th, so that several
+# ctest entries can share the selection across cores.
 set -uo pipefail
-obvh_lib=$1 selection=$2 work=$3
+obvh_lib=$1 selection=$2 work=$3 part=${4:-1/1}
+part_index=${part%/*} part_count=${part#*/}
 mkdir -p "$work"
 [ -e "$obvh_lib/libembree3.so.3" ] || { echo "no drop-in library in $obvh_lib"; exit 1; }
 command -v embree_verify >/dev/null || { echo "embree_verify not found (install embree-tools)"; exit 1; }
@@ -29,6 +32,7 @@ start_all=$(date +%s)
 while read -r keyword regex rest; do
   [ "$keyword" = select ] || continue
   index=$((index + 1))
+  [ $(( (index - 1) % part_count + 1 )) -eq "$part_index" ] || continue
   first=0 obvh_only=0
   for option in $rest; do
     case "$option" in
@@ -67,5 +71,5 @@ done < "$selection"
 printf "%-48s %27s   %27s\n" "total" "${total_o[0]}/${total_o[1]}/${total_o[2]}" "${total_e[0]}/${total_e[1]}/${total_e[2]}"
 echo "excluded groups (see $selection):"
 grep '^exclude' "$selection" | sed 's/^exclude /  /'
-echo "embree_verify selection finished in $(( $(date +%s) - start_all )) s"
+echo "embree_verify selection (part $part) finished in $(( $(date +%s) - start_all )) s"
 exit $status
