@@ -147,14 +147,16 @@ void interpolateHermite(const Geometry& g, const BufferView& values, int type, u
   }
 }
 
-struct AttributeSource {
+// A buffer's items as the patch engine reads them (obvh::ControlValues), checked against the buffer.
+struct ItemReader {
   const BufferView* values;
+  unsigned valueCount;
+  static void read(const void* context, uint32_t vertex, double* out) {
+    const ItemReader& self = *static_cast<const ItemReader*>(context);
+    const float* item = itemAt(*self.values, vertex, self.valueCount);
+    for (unsigned k = 0; k < self.valueCount; ++k) out[k] = item[k];
+  }
 };
-
-void readAttribute(const void* context, uint32_t vertex, double* out, unsigned valueCount) {
-  const float* item = itemAt(*static_cast<const AttributeSource*>(context)->values, vertex, valueCount);
-  for (unsigned k = 0; k < valueCount; ++k) out[k] = item[k];
-}
 
 // A subdivision face's values on the limit surface of the topology the buffer uses, with exact
 // derivatives. Faces of other than four vertices take Embree's subpatch encoding of (u, v).
@@ -177,16 +179,9 @@ void interpolateSubdivision(const Geometry& g, const BufferView& values, int typ
     pu = 2.0 * (0.5 * double(u) - double(l)) - 0.5;
     pv = 2.0 * (0.5 * double(v) - double(h)) - 0.5;
   }
-  AttributeSource source{&values};
-  struct Reader {
-    static void read(const void* context, uint32_t vertex, double* out) {
-      const auto* self = static_cast<const std::pair<const AttributeSource*, unsigned>*>(context);
-      readAttribute(self->first, vertex, out, self->second);
-    }
-  };
-  const std::pair<const AttributeSource*, unsigned> context{&source, valueCount};
+  const ItemReader reader{&values, valueCount};
   const obvh::PatchPoint point = obvh::evaluatePatch(
-      obvh::facePatch(*topology, primID, subpatch, int(valueCount), &Reader::read, &context), pu, pv);
+      obvh::facePatch(*topology, primID, subpatch, int(valueCount), &ItemReader::read, &reader), pu, pv);
   const std::vector<double>* results[6] = {&point.P, &point.dPdu, &point.dPdv, &point.ddPdudu, &point.ddPdvdv, &point.ddPdudv};
   for (int s = 0; s < 6; ++s)
     if (outputs[s])

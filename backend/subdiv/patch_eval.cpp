@@ -89,19 +89,19 @@ void evaluatePointsAt(const LocalPatch& patch, const std::vector<double>& us, co
     rest = which;
   }
   if (rest.empty()) return;
+  // Each point goes to one quadrant, so one copy holds every child's coordinates.
   const LocalPatch subdivided = subdivide(patch);
+  std::vector<int> inside[2][2];
+  std::vector<double> childU = us, childV = vs;
+  for (int i : rest) {
+    const int qu = us[i] >= 0.5, qv = vs[i] >= 0.5;
+    inside[qu][qv].push_back(i);
+    childU[i] = 2.0 * us[i] - qu, childV[i] = 2.0 * vs[i] - qv;
+  }
   for (int qu = 0; qu < 2; ++qu)
-    for (int qv = 0; qv < 2; ++qv) {
-      std::vector<int> inside;
-      for (int i : rest) {
-        if ((us[i] >= 0.5) != bool(qu) || (vs[i] >= 0.5) != bool(qv)) continue;
-        inside.push_back(i);
-      }
-      if (inside.empty()) continue;
-      std::vector<double> childU = us, childV = vs;
-      for (int i : inside) childU[i] = 2.0 * us[i] - qu, childV[i] = 2.0 * vs[i] - qv;
-      evaluatePointsAt(quadrantChild(subdivided, qu, qv), childU, childV, inside, depth + 1, out);
-    }
+    for (int qv = 0; qv < 2; ++qv)
+      if (!inside[qu][qv].empty())
+        evaluatePointsAt(quadrantChild(subdivided, qu, qv), childU, childV, inside[qu][qv], depth + 1, out);
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ struct PatchGrid {
   int subpatch = -1;          // -1: the quad face itself
   int columns = 1, rows = 1;  // cells along u and v
   std::vector<double> u, v;
-  std::vector<SharedPoint> shared;  // per point; id == kNone... marked by `isShared`
+  std::vector<SharedPoint> shared;  // per point: where it is shared, when isShared says it is
   std::vector<uint8_t> isShared;
   std::vector<double> positions;    // 3 per point
 };
