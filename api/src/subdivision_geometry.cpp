@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "api_error.h"
+#include "scene/primitive_collection.h"
 
 namespace obvh::api {
 namespace {
@@ -29,8 +30,6 @@ void readPosition(const void* context, uint32_t vertex, double* out) {
   std::memcpy(xyz, view.data() + size_t(vertex) * view.byteStride, sizeof xyz);
   out[0] = xyz[0], out[1] = xyz[1], out[2] = xyz[2];
 }
-
-bool isValidCoordinate(float c) { return std::isfinite(c) && std::fabs(c) < 1.844e18f; }
 
 }  // namespace
 
@@ -143,7 +142,7 @@ void SubdivisionGeometry::commit(const std::vector<BufferView>& timeSteps) {
     for (size_t v = 0; v < vertexCount; ++v) {
       float xyz[3];
       std::memcpy(xyz, step.data() + v * step.byteStride, sizeof xyz);
-      in.vertexValid[v] &= isValidCoordinate(xyz[0]) && isValidCoordinate(xyz[1]) && isValidCoordinate(xyz[2]);
+      in.vertexValid[v] &= isValidVertex(xyz);
     }
   const SubdivTopology traced(in);
   const std::vector<float> levels = readItems<float>(levels_, 1);

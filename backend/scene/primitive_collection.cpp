@@ -13,14 +13,12 @@
 namespace obvh {
 namespace {
 
-bool isValidCoordinate(float c) { return std::isfinite(c) && std::fabs(c) < kLargestValidCoordinate; }
-
 bool loadVertex(const MeshDesc& mesh, uint64_t index, Vec3f& out) {
   if (index >= mesh.vertexCount) return false;
   float xyz[3];
   std::memcpy(xyz, mesh.vertices + size_t(index) * mesh.vertexStride, sizeof(xyz));
   out = {xyz[0], xyz[1], xyz[2]};
-  return isValidCoordinate(xyz[0]) && isValidCoordinate(xyz[1]) && isValidCoordinate(xyz[2]);
+  return isValidVertex(xyz);
 }
 
 // The two triangles of a quad (v0, v1, v2, v3), split as Embree splits quads and grid cells.

@@ -1,6 +1,7 @@
 // Turns mesh descriptions into the triangles a BVH stores, skipping invalid primitives as Embree does.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "builders/prim_ref.h"
@@ -12,6 +13,11 @@ namespace obvh {
 
 // Embree treats a vertex as invalid when it is not finite or its magnitude reaches this value.
 constexpr float kLargestValidCoordinate = 1.844e18f;
+inline bool isValidVertex(const float xyz[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(xyz[k]) < kLargestValidCoordinate)) return false;  // NaN fails too
+  return true;
+}
 
 struct CollectedPrimitives {
   std::vector<StoredTriangle> triangles;  // refs[i].index indexes this table
