@@ -51,8 +51,11 @@ struct DoublePlaneHit {
   D det, t, u, v;
 };
 
+// Always inlined: as a call (GCC kept the AVX2 kernels' copy out of line, the shared header being
+// outside their target region) it sat in the middle of the lanes' double-precision test, whose live
+// vector registers it clobbered and which were spilled around it.
 template <typename D>
-inline D broadcastDouble(double x) {
+[[gnu::always_inline]] inline D broadcastDouble(double x) {
   return D::broadcast(x);
 }
 template <>

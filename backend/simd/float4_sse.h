@@ -9,6 +9,7 @@ namespace obvh::simd {
 
 struct Float4Sse {
   static constexpr int kWidth = 4;
+  using Lanes4 = Float4Sse;  // see FloatScalar::Lanes4
   __m128 v;
 
   static Float4Sse broadcast(float x) { return {_mm_set1_ps(x)}; }
@@ -20,6 +21,11 @@ struct Float4Sse {
     return {_mm_setr_ps(laneValue(0), laneValue(1), laneValue(2), laneValue(3))};
   }
   static Float4Sse loadUnaligned(const float* p) { return {_mm_loadu_ps(p)}; }
+  // See FloatScalar::loadThree. p[3] must be readable: the four floats are loaded and lane 3 replaced.
+  static Float4Sse loadThree(const float* p, float fourth) {
+    const __m128 keep = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    return {_mm_or_ps(_mm_and_ps(_mm_loadu_ps(p), keep), _mm_setr_ps(0.f, 0.f, 0.f, fourth))};
+  }
   void storeUnaligned(float* p) const { _mm_storeu_ps(p, v); }
   // Truncates each lane toward zero, as a float-to-int cast does for values in range.
   void truncate(int* out) const { _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(v)); }
@@ -37,6 +43,7 @@ struct Float4Sse {
   }
   friend int lessEqualMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v)); }
   friend int lessMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)); }
+  friend int signMask(Float4Sse a) { return _mm_movemask_ps(a.v); }
   friend int equalMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v)); }
   // See FloatScalar::maxOfBits. SSE4.1 instructions: only the SSE4.2 and AVX2 kernels call them.
   __attribute__((target("sse4.1"))) friend Float4Sse maxOfBits(Float4Sse a, Float4Sse b) {

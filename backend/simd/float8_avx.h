@@ -6,12 +6,15 @@
 
 #include <cstdint>
 
+#include "simd/float4_sse.h"
+
 #define OBVH_AVX2 __attribute__((target("avx2")))
 
 namespace obvh::simd {
 
 struct Float8Avx {
   static constexpr int kWidth = 8;
+  using Lanes4 = Float4Sse;  // see FloatScalar::Lanes4
   __m256 v;
 
   OBVH_AVX2 static Float8Avx broadcast(float x) { return {_mm256_set1_ps(x)}; }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -13,6 +14,8 @@ namespace obvh::simd {
 template <int N>
 struct FloatScalar {
   static constexpr int kWidth = N;
+  // The four-lane type the kernels of this width use for per-ray set-up (the scalar reference's).
+  using Lanes4 = FloatScalar<4>;
   float v[N];
 
   static FloatScalar broadcast(float x) {
@@ -26,6 +29,11 @@ struct FloatScalar {
     return r;
   }
   void store(float* p) const { std::copy(v, v + N, p); }
+  // Lanes 0-2 from p, lane 3 `fourth` (four lanes only).
+  static FloatScalar loadThree(const float* p, float fourth) {
+    static_assert(N == 4);
+    return {{p[0], p[1], p[2], fourth}};
+  }
   template <typename LaneValue>
   static FloatScalar fromLanes(LaneValue&& laneValue) {
     FloatScalar r;
@@ -60,6 +68,12 @@ struct FloatScalar {
   // Bit i set when the comparison holds in lane i (false for NaN, like the ordered SSE compares).
   friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
   friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }
+  // Lane i's sign bit as bit i (NaNs and zeros included), as movmskps gives it.
+  friend int signMask(FloatScalar a) {
+    int m = 0;
+    for (int i = 0; i < N; ++i) m |= int(std::signbit(a.v[i])) << i;
+    return m;
+  }
   friend int equalMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x == y; }); }
   // The lanes' bit patterns as signed integers: ordered as the floats are among non-negative floats,
   // and every negative float (or -0, or NaN with the sign bit) below them. A box test whose entry

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "simd/double_lanes.h"
@@ -21,55 +22,61 @@ namespace obvh {
 inline int entryRow(int axis, bool negative) { return axis * 2 + int(negative); }
 inline int exitRow(int axis, bool negative) { return axis * 2 + 1 - int(negative); }
 
-// 1/dir that is not finite (the direction component is zero, denormal or NaN): such a ray takes the
-// min/max form of the box test (single rays) or travels alone (packets).
-inline bool reciprocalUnusable(float inv) { return !(std::fabs(inv) <= std::numeric_limits<float>::max()); }
-
 template <typename FN>
 struct WideRayFrame {
   // -1/dir: the slab distance (plane - org) * inv is computed as (org - plane) * negInv, the same
   // float (negation is exact), so that the node's plane is the memory operand of the subtraction.
   FN org[3], negInv[3];
   FN tnear;
-  float inv[3];               // 1/dir per axis
   // The rows of WideNode::bounds holding each axis' entry plane (entryRow) as byte offsets; the
   // exit plane's is nearByte ^ (bytes of a row). Three offsets, where six row indices were
   // reloaded from the stack at every node.
   uint32_t nearByte[3];
+  int zeroAxes;               // bit axis: the ray does not move along the axis (direction +-0)
   bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
-  bool zero[3];
   // tnear +0 or positive, and along every axis 1/dir finite and non-zero or the direction exactly
   // zero: the node test may then reduce the slab distances as integers (see intersectWideNode);
   // other rays (denormal or infinite directions, negative or NaN tnear) take the float form.
   bool bitOrdered;
 
   WideRayFrame() = default;
-  // Always inlined: as a call (GCC kept it out of line) the frame went through memory.
-  [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) : anyZero(false) {
+  // Always inlined: as a call (GCC kept it out of line) the frame went through memory. The three
+  // axes' reciprocals and their checks are one four-lane operation each (a division is exact, so
+  // 1/dir is the same float either way): axis by axis, the set-up took 148 instructions a ray, now
+  // 109 (callgrind, bunny primary rays, AVX2 kernel).
+  [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) {
+    using F4 = typename FN::Lanes4;
+    // The fourth lane is 1, not the ray's time that follows dir (see Ray): 1/0 would raise the
+    // division-by-zero flag for every ray, which an application trapping that exception would
+    // take for its own error.
+    static_assert(offsetof(Ray, time) == offsetof(Ray, dir) + 3 * sizeof(float));
+    const F4 dir = F4::loadThree(&ray.dir.x, 1.f);
+    const F4 inv = F4::broadcast(1.f) / dir;
+    alignas(16) float invLanes[4];
+    inv.store(invLanes);
+    const F4 zero = F4::broadcast(0.f), largest = F4::broadcast(std::numeric_limits<float>::max());
+    // Denormal directions overflow 1/dir (NaN fails both compares): only the float form's min/max
+    // handles those with its NaN rules.
+    const int finite = lessEqualMask(zero - largest, inv) & lessEqualMask(inv, largest) & 7;
+    const int nonZeroInv = ~equalMask(inv, zero) & 7;
+    zeroAxes = equalMask(dir, zero) & 7;
+    anyZero = finite != 7;
+    // The sign bit, so that a direction of -0 takes the planes of a negative one (the integer
+    // forms' zero axes rely on it; rays moving along the axis see no difference).
+    const int negative = signMask(dir);
     tnear = FN::broadcast(ray.tnear);
     for (int axis = 0; axis < 3; ++axis) {
-      zero[axis] = ray.dir[axis] == 0.f;
-      // Without branches: a zero direction's 1/dir is inf (the integer form's infinite slab
-      // distances; the float form takes the origin-inside-slab test instead), and denormal
-      // directions overflow 1/dir, which only the float form's min/max handles with its NaN rules.
-      inv[axis] = 1.f / ray.dir[axis];
-      anyZero |= reciprocalUnusable(inv[axis]);
       org[axis] = FN::broadcast(ray.org[axis]);
-      negInv[axis] = FN::broadcast(-inv[axis]);
+      // A zero direction's 1/dir is inf (the integer form's infinite slab distances; the float
+      // form takes the origin-inside-slab test instead).
+      negInv[axis] = FN::broadcast(-invLanes[axis]);
       // The slab distances of the planes entered and left first are the values the min/max form
-      // picks, without computing both. The sign bit, so that a direction of -0 takes the planes of
-      // a negative one (the integer forms' zero axes rely on it; rays moving along the axis see no
-      // difference).
-      const bool negative = std::signbit(ray.dir[axis]);
-      nearByte[axis] = uint32_t(entryRow(axis, negative)) * uint32_t(FN::kWidth * sizeof(float));
+      // picks, without computing both.
+      nearByte[axis] = uint32_t(entryRow(axis, (negative >> axis) & 1)) * uint32_t(FN::kWidth * sizeof(float));
     }
     // A ray that moves along no axis has no slab to reject an unused lane (see intersectWideNode).
-    // Decided after the loop: folded into it (one reciprocalUnusable per axis), it cost 9 more
-    // instructions a ray (callgrind, bunny primary).
-    bitOrdered = !std::signbit(ray.tnear) && ray.tnear <= std::numeric_limits<float>::max() &&
-                 !(zero[0] && zero[1] && zero[2]);
-    for (int axis = 0; axis < 3; ++axis)
-      bitOrdered &= zero[axis] || (!reciprocalUnusable(inv[axis]) && inv[axis] != 0.f);
+    bitOrdered = !std::signbit(ray.tnear) && ray.tnear <= std::numeric_limits<float>::max() && zeroAxes != 7 &&
+                 (zeroAxes | (finite & nonZeroInv)) == 7;
   }
 };
 
@@ -137,7 +144,7 @@ template <NodeTestForm kForm, typename FN, int N>
     for (int axis = 0; axis < 3; ++axis) {
       const FN lower = FN::load(node.bounds[axis * 2]);
       const FN upper = FN::load(node.bounds[axis * 2 + 1]);
-      if (r.zero[axis]) {
+      if ((r.zeroAxes >> axis) & 1) {
         inside &= lessEqualMask(lower, r.org[axis]) & lessEqualMask(r.org[axis], upper);
         continue;
       }
@@ -176,10 +183,13 @@ template <typename FN, NodeTestForm kForm>
 struct AxisAlignedWideNodes {
   const TriangleWideView<FN::kWidth>& bvh;
   const WideRayFrame<FN>& frame;
-  const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  // A copy of bvh.nodes: read through the view, the pointer was loaded again at every node (the
+  // leaf test, a call, might have changed the view for all the compiler knew).
+  const WideNode<FN::kWidth>* nodes = bvh.nodes;
+  const uint32_t* children(uint32_t node) const { return nodes[node].child; }
   [[gnu::always_inline]] int enter(uint32_t node, float /*tnear: the frame's*/, float tfar,
                                    float entry[FN::kWidth]) const {
-    return intersectWideNode<kForm>(bvh.nodes[node], frame, tfar, entry);
+    return intersectWideNode<kForm>(nodes[node], frame, tfar, entry);
   }
   [[gnu::always_inline]] void prefetch(uint32_t child) const { prefetchChild<FN>(bvh, child); }
   void count(uint32_t, TraversalCounters& counters) const { counters.aabbTests += FN::kWidth; }
@@ -204,9 +214,12 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
   }
 }
 
+// Always inlined into the kernel that calls it: as a call of its own (GCC kept it out of line) it
+// took a second prologue, and the leaf visitor's captures went through a closure in memory; miss
+// rays, which spend their time in such fixed costs, traced 8% faster inlined (bunny primary rays).
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>
-void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, LeafVisitor&& leafVisitor,
-                  TraversalCounters* counters = nullptr) {
+[[gnu::always_inline]] inline void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray,
+                                                LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
   using Node = WideNode<FN::kWidth>;
   if (bvh.empty()) return;
   if (Node::isLeaf(bvh.root)) {

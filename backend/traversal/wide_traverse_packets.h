@@ -76,7 +76,7 @@ struct PacketLanes {
         const FN d = lanes([axis](const Ray& r) { return r.dir[axis]; }, std::numeric_limits<float>::infinity());
         if ((equalMask(o, o) & on) != on) return;
         const FN inv = one / d;  // idle lanes: 1 / inf = 0
-        // reciprocalUnusable: not finite (NaN fails both comparisons).
+        // Not finite (NaN fails both comparisons): the single-ray frame's float form takes the ray.
         if ((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero) & on) != on) return;
         o.store(org[axis] + base);
         (zero - inv).store(negInvDir[axis] + base);
