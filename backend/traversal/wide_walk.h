@@ -15,6 +15,7 @@
 #include "bvh/wide_bvh.h"
 #include "intersect/ray.h"
 #include "math/float_steps.h"
+#include "traversal/child_order.h"
 #include "traversal/stack_entry.h"
 #include "traversal/traversal_counters.h"
 
@@ -101,23 +102,22 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, typename
         current = child[nearLane];
         continue;
       }
-      // Gather the entered children sorted by entry distance (insertion sort: few entries).
-      StackEntry hits[N];
+      // Three or more: sorted near to far (lower lane first on equal distances) without branches
+      // (child_order.h); the farther ones pushed farthest first.
+      int64_t keys[8];
       int n = 0;
       while (mask) {
         const int lane = __builtin_ctz(unsigned(mask));
         mask &= mask - 1;
-        StackEntry h{child[lane], entry[lane]};
-        nodes.prefetch(h.child());
-        int k = n++;
-        while (k > 0 && hits[k - 1].t() > h.t()) {
-          hits[k] = hits[k - 1];
-          --k;
-        }
-        hits[k] = h;
+        nodes.prefetch(child[lane]);
+        keys[n++] = childOrderKey(entry[lane], lane);
       }
-      for (int k = n - 1; k >= 1; --k) stack[top++] = hits[k];
-      current = hits[0].child();
+      sortChildOrderKeys(keys, n);
+      for (int k = n - 1; k >= 1; --k) {
+        const int lane = childOrderLane(keys[k]);
+        stack[top++] = {child[lane], entry[lane]};
+      }
+      current = child[childOrderLane(keys[0])];
     }
     for (;;) {
       if (top == 0) return;
