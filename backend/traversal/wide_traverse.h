@@ -227,6 +227,9 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
     leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
     return;
   }
+  // An empty segment enters nothing (the walk's first test), known before the frame's set-up: the
+  // benchmark's shadow rays from primary rays that missed are such rays (tfar < tnear).
+  if (ray.tnear > ray.tfar) return;
   traverseWideFrom<FN, kClosest, kCounted, kSorted>(bvh, bvh.root, WideRayFrame<FN>(ray), ray, leafVisitor, counters);
 }
 
