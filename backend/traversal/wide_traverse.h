@@ -33,7 +33,6 @@ struct WideRayFrame {
   // reloaded from the stack at every node.
   uint32_t nearByte[3];
   int zeroAxes;               // bit axis: the ray does not move along the axis (direction +-0)
-  bool anyZero;               // some axis along which the ray does not move (or 1/dir overflows)
   // tnear +0 or positive, and along every axis 1/dir finite and non-zero or the direction exactly
   // zero: the node test may then reduce the slab distances as integers (see intersectWideNode);
   // other rays (denormal or infinite directions, negative or NaN tnear) take the float form.
@@ -60,7 +59,6 @@ struct WideRayFrame {
     const int finite = lessEqualMask(zero - largest, inv) & lessEqualMask(inv, largest) & 7;
     const int nonZeroInv = ~equalMask(inv, zero) & 7;
     zeroAxes = equalMask(dir, zero) & 7;
-    anyZero = finite != 7;
     // The sign bit, so that a direction of -0 takes the planes of a negative one (the integer
     // forms' zero axes rely on it; rays moving along the axis see no difference).
     const int negative = signMask(dir);
@@ -96,7 +94,8 @@ enum class NodeTestForm {
 template <typename FN>
 NodeTestForm nodeTestFormOf(const WideRayFrame<FN>& frame) {
   if (!frame.bitOrdered) return NodeTestForm::kFloat;
-  return frame.anyZero ? NodeTestForm::kBitsZeroAxes : NodeTestForm::kBits;
+  // With bitOrdered, an axis whose 1/dir is not finite is one the ray does not move along.
+  return frame.zeroAxes != 0 ? NodeTestForm::kBitsZeroAxes : NodeTestForm::kBits;
 }
 
 // Tests the node's child boxes; returns a bit mask of the entered ones and their entry distances.
