@@ -52,7 +52,10 @@ struct Float8Avx {
     return {_mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(a.v), _mm256_set1_epi32(k)))};
   }
   OBVH_AVX2 friend int bitsLessEqualMask(Float8Avx a, Float8Avx b) {
-    return ~_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))) & 255;
+    return ~bitsGreaterMask(a, b) & 255;
+  }
+  OBVH_AVX2 friend int bitsGreaterMask(Float8Avx a, Float8Avx b) {
+    return _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v))));
   }
   // Lane i of the result is lane slots[i] of table (slots: eight indices 0..7, 32-byte aligned).
   OBVH_AVX2 friend Float8Avx lanesAt(Float8Avx table, const int32_t* slots) {

@@ -105,6 +105,9 @@ struct FloatScalar {
   friend int bitsLessEqualMask(FloatScalar a, FloatScalar b) {
     return maskOf(a, b, [](float x, float y) { return bitsOf(x) <= bitsOf(y); });
   }
+  friend int bitsGreaterMask(FloatScalar a, FloatScalar b) {
+    return maskOf(a, b, [](float x, float y) { return bitsOf(x) > bitsOf(y); });
+  }
   // The smallest of the lanes whose bit is set in mask, +inf when none is; those lanes must not be
   // NaN (the SIMD versions may then differ only in the sign of a zero).
   friend float minOfLanes(FloatScalar a, int mask) {

@@ -3,7 +3,9 @@
 // blocks, empty); they differ only in how a node's child volumes are entered, which the layout's
 // Nodes type supplies:
 //   const uint32_t* children(uint32_t node)          the node's child codes
-//   int enter(uint32_t node, float tnear, float tfar, float entry[N])
+//   Limit exitLimit(float tfar)                       tfar in the form enter takes it, prepared once
+//                                                     each time tfar changes rather than at every node
+//   int enter(uint32_t node, float tnear, const Limit& tfar, float entry[N])
 //                                                     mask of the entered children, entry distances
 //   void prefetch(uint32_t child)                     start loading a child before it is visited
 //   void count(uint32_t node, TraversalCounters&)     add the node's volume tests
@@ -40,8 +42,10 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, typename
   // limit is the float just below tfar (x <= nextafter(t, -inf) exactly when x < t).
   const float initialTfar = ray.tfar;
   float limit = ray.tfar;
+  auto exitLimit = nodes.exitLimit(limit);
   const auto updateLimit = [&] {
     limit = kClosest && ray.tfar < initialTfar ? nextFloatDown(ray.tfar) : ray.tfar;
+    exitLimit = nodes.exitLimit(limit);
   };
   StackEntry stack[(N - 1) * 128];
   int top = 0;
@@ -60,7 +64,7 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, typename
       }
       if constexpr (kCounted) nodes.count(current, *counters);
       const uint32_t* child = nodes.children(current);
-      int mask = nodes.enter(current, ray.tnear, limit, entry);
+      int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
         current = child[__builtin_ctz(unsigned(mask))];

@@ -10,6 +10,7 @@
 #include "builders/binned_sah_builder.h"
 #include "bvh/tree_statistics.h"
 #include "bvh/wide_bvh.h"
+#include "math/float_steps.h"
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
 #include "backend_mesh_desc.h"
@@ -275,6 +276,52 @@ TEST(WideBvh, WallsSeenEdgeOnMatchTheBinaryTree) {
     expectWallsSeenEdgeOnMatchTheBinaryTree<4>(collapse);
     expectWallsSeenEdgeOnMatchTheBinaryTree<8>(collapse);
   }
+}
+
+// Segments that end exactly where a face is hit, or just before it, or that are empty (tfar +0 or
+// -0 with tnear +0, tfar below tnear): the node tests' exit limit (the integer forms lower tfar by
+// their far ulps and compare against the entry lowered by one more) must keep a box whose entry is
+// exactly tfar and enter nothing for a negative tfar. Horizontal layers traced straight down (the
+// entry distance of a layer's flat box is exactly the hit distance) and slightly tilted (every
+// axis moving: the other integer form).
+template <int N>
+void expectSegmentEndsMatchTheBinaryTree() {
+  test::MeshData layers;
+  for (int k = 0; k < 12; ++k) {
+    const float z = 0.5f * float(k);
+    const uint32_t base = uint32_t(layers.vertices.size() / 3);
+    for (const Vec3f& p : {Vec3f{0.f, 0.f, z}, Vec3f{8.f, 0.f, z}, Vec3f{8.f, 8.f, z}, Vec3f{0.f, 8.f, z}})
+      layers.vertices.insert(layers.vertices.end(), {p.x, p.y, p.z});
+    layers.indices.insert(layers.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+  Layouts<N> l(layers, 2);
+  const QueryState state;
+  size_t boundaryHits = 0;
+  for (int i = 1; i < 16; ++i)
+    for (int tilt = 0; tilt < 2; ++tilt) {
+      Ray ray;
+      ray.org = {0.5f * float(i), 0.25f * float(i), 7.f};
+      ray.dir = tilt ? Vec3f{1e-3f, -2e-3f, -1.f} : Vec3f{0.f, 0.f, -1.f};
+      ray.tfar = std::numeric_limits<float>::infinity();
+      Ray probe = ray;
+      Hit hit;
+      ASSERT_TRUE(intersectClosest(l.view2, probe, hit, state));
+      const float t = probe.tfar;
+      for (float tfar : {t, nextFloatDown(t), 0.f, -0.f, std::numeric_limits<float>::denorm_min(), -1.f}) {
+        Ray segment = ray;
+        segment.tfar = tfar;
+        boundaryHits += expectKernelsAnswerLikeTheBinaryTree(l, segment) && tfar == t;
+      }
+      Ray behind = ray;  // tnear beyond the first layer: the next one down
+      behind.tnear = t;
+      expectKernelsAnswerLikeTheBinaryTree(l, behind);
+    }
+  EXPECT_EQ(boundaryHits, 30u);  // every ray still finds its face with tfar exactly at it
+}
+
+TEST(WideBvh, SegmentEndsMatchTheBinaryTree) {
+  expectSegmentEndsMatchTheBinaryTree<4>();
+  expectSegmentEndsMatchTheBinaryTree<8>();
 }
 
 // Packets of up to 16 rays (partial masks, coherent and incoherent lanes) find the same closest
