@@ -3,7 +3,12 @@
 #include "traversal_statistics_state.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <limits>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace obvh::api {
 namespace {
@@ -85,6 +90,47 @@ Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
   return ray;
 }
 
+#ifdef __SSE2__
+// gatherLiveLanes for lanes in fours (rtcIntersect4/8/16, rtcOccluded4/8/16): the rows of four lanes
+// (org_x, org_y, org_z, tnear) and (dir_x, dir_y, dir_z, time) transposed are the first 32 bytes
+// of four Rays, (tfar, mask) interleaved the last 8. Every lane of the four is written (the rays
+// array is scratch; only the live lanes are read). Lane by lane, the conversion was a tenth of a
+// coherent rtcIntersect8 packet's time (perf, bunny primary rays).
+uint32_t gatherLiveLanesByFours(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count,
+                                bool masksOn, Ray* rays) {
+  static_assert(sizeof(Ray) == 40 && offsetof(Ray, dir) == 16 && offsetof(Ray, tfar) == 32 && offsetof(Ray, mask) == 36);
+  const float* row = reinterpret_cast<const float*>(rayN);  // RTCRayN: twelve rows of N lanes
+  uint32_t live = 0;
+  for (unsigned k = 0; k < count; k += 4) {
+    const unsigned i = first + k;
+    const auto lanes = [&](int r) { return _mm_loadu_ps(row + unsigned(r) * N + i); };
+    const int active = valid == nullptr ? 15
+                                        : _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(
+                                              _mm_loadu_si128(reinterpret_cast<const __m128i*>(valid + i)),
+                                              _mm_set1_epi32(-1))));
+    const __m128 tfar = lanes(8);
+    const int empty = _mm_movemask_ps(_mm_cmpgt_ps(lanes(3), tfar));  // tnear > tfar
+    live |= uint32_t(active & ~empty) << k;
+    float* out = reinterpret_cast<float*>(rays + k);
+    for (int half = 0; half < 2; ++half) {  // org and tnear, then dir and time
+      __m128 a = lanes(4 * half), b = lanes(4 * half + 1), c = lanes(4 * half + 2), d = lanes(4 * half + 3);
+      _MM_TRANSPOSE4_PS(a, b, c, d);
+      _mm_storeu_ps(out + 4 * half, a);
+      _mm_storeu_ps(out + 10 + 4 * half, b);
+      _mm_storeu_ps(out + 20 + 4 * half, c);
+      _mm_storeu_ps(out + 30 + 4 * half, d);
+    }
+    const __m128 mask = masksOn ? lanes(9) : _mm_castsi128_ps(_mm_set1_epi32(-1));
+    const __m128 low = _mm_unpacklo_ps(tfar, mask), high = _mm_unpackhi_ps(tfar, mask);
+    _mm_storel_pi(reinterpret_cast<__m64*>(out + 8), low);
+    _mm_storeh_pi(reinterpret_cast<__m64*>(out + 18), low);
+    _mm_storel_pi(reinterpret_cast<__m64*>(out + 28), high);
+    _mm_storeh_pi(reinterpret_cast<__m64*>(out + 38), high);
+  }
+  return live;
+}
+#endif
+
 // Converts the live lanes of [first, first + count) into rays[0..count) and returns their mask: a
 // lane is live when it is active and its segment is not empty (tnear > tfar). Empty segments, as a
 // shadow packet's lanes behind pixels without a hit are, can never report anything, and the backend
@@ -92,6 +138,9 @@ Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
 // from 34 to 10 ns (Embree: 12 ns).
 uint32_t gatherLiveLanes(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count, bool masksOn,
                          Ray* rays) {
+#ifdef __SSE2__
+  if (count % 4 == 0) return gatherLiveLanesByFours(valid, rayN, N, first, count, masksOn, rays);
+#endif
   uint32_t live = 0;
   for (unsigned k = 0; k < count; ++k)
     if (laneActive(valid, first + k) && !(RTCRayN_tnear(rayN, N, first + k) > RTCRayN_tfar(rayN, N, first + k)))

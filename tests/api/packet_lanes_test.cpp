@@ -1,0 +1,163 @@
+// rtcIntersect4/8/16 and rtcOccluded4/8/16 take each lane's ray from Embree's SOA layout four lanes
+// at a time. Every field must reach its own lane: each lane of a packet answers as the same ray
+// through rtcIntersect1 / rtcOccluded1, with its own mask (ray masks on and off), time, segment
+// and validity, and inactive lanes stay untouched.
+#include <embree3/rtcore.h>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+class PacketLanes : public ::testing::TestWithParam<const char*> {
+ protected:
+  // Two horizontal grids of unit squares (z = 0 with geometry mask 1, z = 1 with mask 2), so that a
+  // ray's mask and segment decide which one it hits.
+  void SetUp() override {
+    device = rtcNewDevice(GetParam());
+    ASSERT_NE(device, nullptr);
+    scene = rtcNewScene(device);
+    for (unsigned layer = 0; layer < 2; ++layer) {
+      RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      constexpr unsigned kSide = 8;
+      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                   3 * sizeof(float), (kSide + 1) * (kSide + 1)));
+      auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                     3 * sizeof(unsigned), 2 * kSide * kSide));
+      for (unsigned y = 0; y <= kSide; ++y)
+        for (unsigned x = 0; x <= kSide; ++x) {
+          float* v = vertices + 3 * (y * (kSide + 1) + x);
+          v[0] = float(x), v[1] = float(y), v[2] = float(layer);
+        }
+      for (unsigned y = 0; y < kSide; ++y)
+        for (unsigned x = 0; x < kSide; ++x) {
+          const unsigned a = y * (kSide + 1) + x, b = a + 1, c = a + kSide + 2, d = a + kSide + 1;
+          const unsigned quad[6] = {a, b, c, a, c, d};
+          std::memcpy(indices + 6 * (y * kSide + x), quad, sizeof quad);
+        }
+      rtcSetGeometryMask(geometry, 1u << layer);
+      rtcCommitGeometry(geometry);
+      rtcAttachGeometry(scene, geometry);
+      rtcReleaseGeometry(geometry);
+    }
+    rtcCommitScene(scene);
+  }
+  void TearDown() override {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+
+  // Rays down onto the grids from varied origins, with masks 0..3, empty and short segments and
+  // distinct times (each field distinct per lane, so a lane reading another's shows).
+  static RTCRay laneRay(std::mt19937& rng) {
+    std::uniform_real_distribution<float> xy(0.1f, 7.9f), tilt(-0.2f, 0.2f);
+    RTCRay ray{};
+    ray.org_x = xy(rng), ray.org_y = xy(rng), ray.org_z = 3.f;
+    ray.dir_x = tilt(rng), ray.dir_y = tilt(rng), ray.dir_z = -1.f;
+    const unsigned kind = rng() % 6;
+    ray.tnear = kind == 0 ? 2.5f : 0.f;                      // beyond the upper grid
+    ray.tfar = kind == 1 ? 1.5f : kind == 2 ? -1.f : kInf;   // short of the lower grid; empty
+    ray.time = float(rng() % 100) / 100.f;
+    ray.mask = rng() % 4;
+    ray.id = rng();
+    return ray;
+  }
+
+  template <int W, typename PacketHit>
+  void expectLanesAnswerAsSingleRays(void (*intersectW)(const int*, RTCScene, RTCIntersectContext*, PacketHit*)) {
+    std::mt19937 rng(W);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    size_t hits = 0;
+    for (int p = 0; p < 200; ++p) {
+      alignas(64) int valid[W];
+      alignas(64) PacketHit packet;
+      std::vector<RTCRayHit> single(W);
+      for (int i = 0; i < W; ++i) {
+        valid[i] = rng() % 4 == 0 ? 0 : -1;
+        single[i].ray = laneRay(rng);
+        single[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        const RTCRay& r = single[i].ray;
+        packet.ray.org_x[i] = r.org_x, packet.ray.org_y[i] = r.org_y, packet.ray.org_z[i] = r.org_z;
+        packet.ray.dir_x[i] = r.dir_x, packet.ray.dir_y[i] = r.dir_y, packet.ray.dir_z[i] = r.dir_z;
+        packet.ray.tnear[i] = r.tnear, packet.ray.tfar[i] = r.tfar, packet.ray.time[i] = r.time;
+        packet.ray.mask[i] = r.mask, packet.ray.id[i] = r.id, packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      }
+      intersectW(valid, scene, &context, &packet);
+      for (int i = 0; i < W; ++i) {
+        if (valid[i] != -1) {
+          EXPECT_EQ(packet.ray.tfar[i], single[i].ray.tfar) << "inactive lane " << i << " changed";
+          EXPECT_EQ(packet.hit.geomID[i], RTC_INVALID_GEOMETRY_ID);
+          continue;
+        }
+        rtcIntersect1(scene, &context, &single[i]);
+        EXPECT_EQ(packet.hit.geomID[i], single[i].hit.geomID) << "width " << W << " packet " << p << " lane " << i;
+        EXPECT_EQ(packet.ray.tfar[i], single[i].ray.tfar) << "width " << W << " packet " << p << " lane " << i;
+        if (single[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        ++hits;
+        EXPECT_EQ(packet.hit.primID[i], single[i].hit.primID);
+        EXPECT_EQ(packet.hit.u[i], single[i].hit.u);
+        EXPECT_EQ(packet.hit.v[i], single[i].hit.v);
+      }
+    }
+    EXPECT_GT(hits, 100u * W / 4);
+  }
+
+  template <int W, typename Packet>
+  void expectLanesOccludeAsSingleRays(void (*occludedW)(const int*, RTCScene, RTCIntersectContext*, Packet*)) {
+    std::mt19937 rng(W + 100);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    size_t occluded = 0, open = 0;
+    for (int p = 0; p < 200; ++p) {
+      alignas(64) int valid[W];
+      alignas(64) Packet packet;
+      std::vector<RTCRay> single(W);
+      for (int i = 0; i < W; ++i) {
+        valid[i] = rng() % 4 == 0 ? 0 : -1;
+        const RTCRay r = single[i] = laneRay(rng);
+        packet.org_x[i] = r.org_x, packet.org_y[i] = r.org_y, packet.org_z[i] = r.org_z;
+        packet.dir_x[i] = r.dir_x, packet.dir_y[i] = r.dir_y, packet.dir_z[i] = r.dir_z;
+        packet.tnear[i] = r.tnear, packet.tfar[i] = r.tfar, packet.time[i] = r.time;
+        packet.mask[i] = r.mask, packet.id[i] = r.id, packet.flags[i] = 0;
+      }
+      occludedW(valid, scene, &context, &packet);
+      for (int i = 0; i < W; ++i) {
+        if (valid[i] != -1) {
+          EXPECT_EQ(packet.tfar[i], single[i].tfar) << "inactive lane " << i << " changed";
+          continue;
+        }
+        rtcOccluded1(scene, &context, &single[i]);
+        EXPECT_EQ(packet.tfar[i], single[i].tfar) << "width " << W << " packet " << p << " lane " << i;
+        (single[i].tfar == -kInf ? occluded : open)++;
+      }
+    }
+    EXPECT_GT(occluded, 50u * W / 4);
+    EXPECT_GT(open, 50u * W / 4);
+  }
+
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+};
+
+TEST_P(PacketLanes, IntersectLanesAnswerAsSingleRays) {
+  expectLanesAnswerAsSingleRays<4>(rtcIntersect4);
+  expectLanesAnswerAsSingleRays<8>(rtcIntersect8);
+  expectLanesAnswerAsSingleRays<16>(rtcIntersect16);
+}
+
+TEST_P(PacketLanes, OccludedLanesAnswerAsSingleRays) {
+  expectLanesOccludeAsSingleRays<4>(rtcOccluded4);
+  expectLanesOccludeAsSingleRays<8>(rtcOccluded8);
+  expectLanesOccludeAsSingleRays<16>(rtcOccluded16);
+}
+
+INSTANTIATE_TEST_SUITE_P(RayMasks, PacketLanes, ::testing::Values("", "ray_mask=off", "accel=bvh4"));
+
+}  // namespace
