@@ -94,10 +94,10 @@ Ray laneRay(RTCRayN* rays, unsigned N, unsigned i, bool masksOn) {
 // gatherLiveLanes for lanes in fours (rtcIntersect4/8/16, rtcOccluded4/8/16): the rows of four lanes
 // (org_x, org_y, org_z, tnear) and (dir_x, dir_y, dir_z, time) transposed are the first 32 bytes
 // of four Rays, (tfar, mask) interleaved the last 8. Every lane of four with a live one is written
-// (the rays array is scratch; only the live lanes are read). Lane by lane, the conversion was a tenth of a
-// coherent rtcIntersect8 packet's time (perf, bunny primary rays). Four lanes none of which is live
-// read no more rows than validity and the segment: converted anyway, the bench's shadow packets
-// (most of them empty) traced 8% slower than lane by lane.
+// (the rays array is scratch; only the live lanes are read). Lane by lane, the conversion was a
+// tenth of a coherent rtcIntersect8 packet's time (perf, bunny primary rays). Four lanes none of
+// which is live read no more rows than validity and the segment: converted anyway, the bench's
+// shadow packets (most of them empty) traced 8% slower than lane by lane.
 uint32_t gatherLiveLanesByFours(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count,
                                 bool masksOn, Ray* rays) {
   static_assert(sizeof(Ray) == 40 && offsetof(Ray, dir) == 16 && offsetof(Ray, tfar) == 32 && offsetof(Ray, mask) == 36);

@@ -121,10 +121,10 @@ FN exitLimitLanes(float tfar) {
 // kForm: see NodeTestForm. In the integer forms every slab distance is a float whose bit pattern
 // orders as the float does when it is non-negative, and below every non-negative one when it is
 // negative, so that the maximum with tnear (>= +0) and the minimum of the exits come out of
-// integer max/min, the exit is raised by adding ulps to its bits, and the compare is an integer
-// one: one cycle each on the chain from one node's load to the next, where the float forms take
-// four (an unused lane's NaN bounds give
-// NaN distances of either sign: a positive one ends as the largest entry, a negative one as the
+// integer max/min, the exit's allowance of ulps is an integer add on the bits (taken off tfar and
+// the entry, see below), and the compare is an integer one: one cycle each on the chain from one
+// node's load to the next, where the float forms take four (an unused lane's NaN bounds give NaN
+// distances of either sign: a positive one ends as the largest entry, a negative one as the
 // smallest exit, and the lane fails the compare either way). In the float form a ray that does not
 // move along an axis is inside that slab exactly when its origin lies within [lower, upper]
 // (inclusive), as in the scalar box test; the integer form with zero axes gets the same slabs from

@@ -68,6 +68,15 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
     return ray;
   }
 
+  // Lane i of an RTCRay4/8/16 set to r (Embree's header has the reverse, rtcGetRayFromRayN).
+  template <typename RayPacket>
+  static void setLane(RayPacket& rays, int i, const RTCRay& r) {
+    rays.org_x[i] = r.org_x, rays.org_y[i] = r.org_y, rays.org_z[i] = r.org_z;
+    rays.dir_x[i] = r.dir_x, rays.dir_y[i] = r.dir_y, rays.dir_z[i] = r.dir_z;
+    rays.tnear[i] = r.tnear, rays.tfar[i] = r.tfar, rays.time[i] = r.time;
+    rays.mask[i] = r.mask, rays.id[i] = r.id, rays.flags[i] = 0;
+  }
+
   template <int W, typename PacketHit>
   void expectLanesAnswerAsSingleRays(void (*intersectW)(const int*, RTCScene, RTCIntersectContext*, PacketHit*)) {
     std::mt19937 rng(W);
@@ -82,11 +91,7 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
         valid[i] = rng() % 4 == 0 ? 0 : -1;
         single[i].ray = laneRay(rng);
         single[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        const RTCRay& r = single[i].ray;
-        packet.ray.org_x[i] = r.org_x, packet.ray.org_y[i] = r.org_y, packet.ray.org_z[i] = r.org_z;
-        packet.ray.dir_x[i] = r.dir_x, packet.ray.dir_y[i] = r.dir_y, packet.ray.dir_z[i] = r.dir_z;
-        packet.ray.tnear[i] = r.tnear, packet.ray.tfar[i] = r.tfar, packet.ray.time[i] = r.time;
-        packet.ray.mask[i] = r.mask, packet.ray.id[i] = r.id, packet.ray.flags[i] = 0;
+        setLane(packet.ray, i, single[i].ray);
         packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       }
       intersectW(valid, scene, &context, &packet);
@@ -121,11 +126,8 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
       std::vector<RTCRay> single(W);
       for (int i = 0; i < W; ++i) {
         valid[i] = rng() % 4 == 0 ? 0 : -1;
-        const RTCRay r = single[i] = laneRay(rng);
-        packet.org_x[i] = r.org_x, packet.org_y[i] = r.org_y, packet.org_z[i] = r.org_z;
-        packet.dir_x[i] = r.dir_x, packet.dir_y[i] = r.dir_y, packet.dir_z[i] = r.dir_z;
-        packet.tnear[i] = r.tnear, packet.tfar[i] = r.tfar, packet.time[i] = r.time;
-        packet.mask[i] = r.mask, packet.id[i] = r.id, packet.flags[i] = 0;
+        single[i] = laneRay(rng);
+        setLane(packet, i, single[i]);
       }
       occludedW(valid, scene, &context, &packet);
       for (int i = 0; i < W; ++i) {
