@@ -1,7 +1,9 @@
 // Four-lane float vector on SSE intrinsics; mirrors FloatScalar<4> (float_scalar.h).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <xmmintrin.h>
 #include <emmintrin.h>
 #include <smmintrin.h>
 
@@ -19,6 +21,19 @@ struct Float4Sse {
   template <typename LaneValue>
   static Float4Sse fromLanes(LaneValue&& laneValue) {
     return {_mm_setr_ps(laneValue(0), laneValue(1), laneValue(2), laneValue(3))};
+  }
+  // See FloatScalar::loadColumns.
+  static void loadColumns(const float* p, size_t stride, Float4Sse out[4]) {
+    __m128 a = _mm_loadu_ps(p), b = _mm_loadu_ps(p + stride), c = _mm_loadu_ps(p + 2 * stride),
+           d = _mm_loadu_ps(p + 3 * stride);
+    _MM_TRANSPOSE4_PS(a, b, c, d);
+    out[0].v = a, out[1].v = b, out[2].v = c, out[3].v = d;
+  }
+  // See FloatScalar::select.
+  friend Float4Sse select(int mask, Float4Sse a, Float4Sse b) {
+    const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128 in = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(mask), bits), bits));
+    return {_mm_or_ps(_mm_and_ps(in, a.v), _mm_andnot_ps(in, b.v))};
   }
   static Float4Sse loadUnaligned(const float* p) { return {_mm_loadu_ps(p)}; }
   // See FloatScalar::loadThree. p[3] must be readable: the four floats are loaded and lane 3 replaced.

@@ -4,6 +4,7 @@
 
 #include <immintrin.h>
 
+#include <cstddef>
 #include <cstdint>
 
 #include "simd/float4_sse.h"
@@ -60,6 +61,33 @@ struct Float8Avx {
   // Lane i of the result is lane slots[i] of table (slots: eight indices 0..7, 32-byte aligned).
   OBVH_AVX2 friend Float8Avx lanesAt(Float8Avx table, const int32_t* slots) {
     return {_mm256_permutevar8x32_ps(table.v, _mm256_load_si256(reinterpret_cast<const __m256i*>(slots)))};
+  }
+  // See FloatScalar::loadColumns: eight rows, interleaved in pairs, then in fours, then halves
+  // exchanged.
+  OBVH_AVX2 static void loadColumns(const float* p, size_t stride, Float8Avx out[8]) {
+    __m256 row[8];
+    for (int i = 0; i < 8; ++i) row[i] = _mm256_loadu_ps(p + size_t(i) * stride);
+    __m256 pairs[8], fours[8];
+    for (int i = 0; i < 8; i += 2) {
+      pairs[i] = _mm256_unpacklo_ps(row[i], row[i + 1]);      // columns 0, 1 | 4, 5 of rows i, i + 1
+      pairs[i + 1] = _mm256_unpackhi_ps(row[i], row[i + 1]);  // columns 2, 3 | 6, 7
+    }
+    for (int i = 0; i < 8; i += 4) {
+      fours[i] = _mm256_shuffle_ps(pairs[i], pairs[i + 2], _MM_SHUFFLE(1, 0, 1, 0));      // column 0 | 4
+      fours[i + 1] = _mm256_shuffle_ps(pairs[i], pairs[i + 2], _MM_SHUFFLE(3, 2, 3, 2));  // column 1 | 5
+      fours[i + 2] = _mm256_shuffle_ps(pairs[i + 1], pairs[i + 3], _MM_SHUFFLE(1, 0, 1, 0));  // 2 | 6
+      fours[i + 3] = _mm256_shuffle_ps(pairs[i + 1], pairs[i + 3], _MM_SHUFFLE(3, 2, 3, 2));  // 3 | 7
+    }
+    for (int c = 0; c < 4; ++c) {
+      out[c].v = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x20);
+      out[c + 4].v = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x31);
+    }
+  }
+  // See FloatScalar::select.
+  OBVH_AVX2 friend Float8Avx select(int mask, Float8Avx a, Float8Avx b) {
+    const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i in = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask), bits), bits);
+    return {_mm256_blendv_ps(b.v, a.v, _mm256_castsi256_ps(in))};
   }
   // See FloatScalar::minOfLanes.
   OBVH_AVX2 friend float minOfLanes(Float8Avx a, int mask) {

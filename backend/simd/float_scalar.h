@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -38,6 +39,19 @@ struct FloatScalar {
   static FloatScalar fromLanes(LaneValue&& laneValue) {
     FloatScalar r;
     for (int i = 0; i < N; ++i) r.v[i] = laneValue(i);
+    return r;
+  }
+
+  // Column c < N of the N rows of N floats that start at p, p + stride, ...: out[c] lane i is
+  // p[i * stride + c] (a transposed load, as of the leading fields of N structs).
+  static void loadColumns(const float* p, size_t stride, FloatScalar out[N]) {
+    for (int c = 0; c < N; ++c)
+      for (int i = 0; i < N; ++i) out[c].v[i] = p[size_t(i) * stride + size_t(c)];
+  }
+  // Lane i of a where bit i of mask is set, else b's.
+  friend FloatScalar select(int mask, FloatScalar a, FloatScalar b) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = (mask >> i) & 1 ? a.v[i] : b.v[i];
     return r;
   }
 

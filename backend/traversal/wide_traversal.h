@@ -23,7 +23,9 @@ struct TriangleWideView {
   bool empty() const { return root == WideNode<N>::kEmptyChild; }
 };
 
-// Packets: up to kMaxPacketSize rays, lane i active when bit i of active is set.
+// Packets: up to kMaxPacketSize rays, lane i active when bit i of active is set. The rays array
+// has kMaxPacketSize entries (the kernels load whole lane groups); inactive ones are not read for
+// their values and may be uninitialized.
 constexpr int kMaxPacketSize = 16;
 
 // Scalar: the reference kernels (FloatScalar). Simd: SSE4.2 for bvh4, AVX2 for bvh8.

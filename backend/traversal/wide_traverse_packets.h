@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -36,15 +37,22 @@ struct PacketLanes {
   // have numbers for origins and tnear (NaN rays go alone, where no box admits them). 1/dir, the
   // signs and the zero-direction test are the single-ray frame's (WideRayFrame) operations, done
   // here for a lane group of rays at once (a division is exact, so 1/dir is the same float either
-  // way): most packets never need a ray's full frame (only rays that go on alone do). The lanes
-  // are assembled in registers (FN::fromLanes): made one ray at a time, with 24 scalar divisions
-  // for eight rays and the arrays read back as vectors right after their scalar stores, this took
-  // a sixth of a coherent packet's time (perf, bunny primary rays through rtcIntersect8).
+  // way): most packets never need a ray's full frame (only rays that go on alone do). A lane
+  // group's origins, tnear and directions come out of one transposed load of its rays' leading
+  // fields (FN::loadColumns); assembled lane by lane, eight values a row, the set-up was a tenth
+  // of a coherent rtcIntersect8 packet's time (perf, bunny primary rays). rays must hold the
+  // whole lane group of every active ray (kMaxPacketSize entries do); idle lanes may be
+  // uninitialized, their values are replaced.
   PacketLanes(const Ray* rays, uint32_t active) {
     if (active == 0) return;
+    static_assert(offsetof(Ray, org) == 0 && offsetof(Ray, tnear) == 3 * sizeof(float) &&
+                      offsetof(Ray, dir) == 4 * sizeof(float) && sizeof(Ray) % sizeof(float) == 0,
+                  "a ray's first eight floats are org, tnear, dir (and time)");
+    static_assert(8 % kLanes == 0 && kMaxPacketSize % kLanes == 0);
     groups = (31 - __builtin_clz(active)) / kLanes + 1;
     const FN zero = FN::broadcast(0.f), one = FN::broadcast(1.f);
     const FN largest = FN::broadcast(std::numeric_limits<float>::max()), lowest = zero - largest;
+    const FN infinity = FN::broadcast(std::numeric_limits<float>::infinity());
     int negative[3] = {0, 0, 0};  // rays of active moving towards -axis
     float orgLow[3], orgHigh[3], invLow[3], invHigh[3];
     for (int axis = 0; axis < 3; ++axis) {
@@ -55,25 +63,27 @@ struct PacketLanes {
     for (int g = 0; g < groups; ++g) {
       const int base = g * kLanes;
       const int on = int((active >> base) & ((1u << kLanes) - 1));
-      const auto lanes = [&](auto value, float idle) {
-        return FN::fromLanes([&](int lane) { return (on >> lane) & 1 ? value(rays[base + lane]) : idle; });
-      };
       const auto maxOfLanes = [&](const FN& x) { return -minOfLanes(zero - x, on); };
       // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
-      const FN tn = lanes([](const Ray& r) { return r.tnear; }, std::numeric_limits<float>::infinity());
-      tn.store(tnear + base);
-      lanes([](const Ray& r) { return r.tfar; }, -std::numeric_limits<float>::infinity()).store(tfar + base);
+      FN tfarLanes = FN::fromLanes([&](int lane) { return rays[base + lane].tfar; });
+      select(on, tfarLanes, zero - infinity).store(tfar + base);
       if (on == 0) {
+        infinity.store(tnear + base);
         for (int axis = 0; axis < 3; ++axis) zero.store(org[axis] + base), zero.store(negInvDir[axis] + base);
         continue;
       }
+      FN leading[8];  // org x, y, z, tnear, dir x, y, z, time of the group's rays
+      for (int c = 0; c < 8; c += kLanes)
+        FN::loadColumns(reinterpret_cast<const float*>(rays + base) + c, sizeof(Ray) / sizeof(float), leading + c);
+      const FN tn = select(on, leading[3], infinity);
+      tn.store(tnear + base);
       // The rays' box tests take the integer form of the single ray's (intersectWideNode), which
       // needs tnear +0 or positive and 1/dir finite and non-zero; other rays go alone.
       if ((bitsLessEqualMask(zero, tn) & lessEqualMask(tn, largest) & on) != on) return;
       tnearLow = std::min(tnearLow, minOfLanes(tn, on));
       for (int axis = 0; axis < 3; ++axis) {
-        const FN o = lanes([axis](const Ray& r) { return r.org[axis]; }, 0.f);
-        const FN d = lanes([axis](const Ray& r) { return r.dir[axis]; }, std::numeric_limits<float>::infinity());
+        const FN o = select(on, leading[axis], zero);
+        const FN d = select(on, leading[4 + axis], infinity);
         if ((equalMask(o, o) & on) != on) return;
         const FN inv = one / d;  // idle lanes: 1 / inf = 0
         // Not finite (NaN fails both comparisons): the single-ray frame's float form takes the ray.

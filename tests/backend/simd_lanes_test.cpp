@@ -19,6 +19,14 @@ float sseMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Flo
 void sseFromLanes(const float* values, float* out) {
   simd::Float4Sse::fromLanes([&](int lane) { return values[lane]; }).store(out);
 }
+void sseLoadColumns(const float* rows, size_t stride, float* out) {
+  simd::Float4Sse columns[4];
+  simd::Float4Sse::loadColumns(rows, stride, columns);
+  for (int c = 0; c < 4; ++c) columns[c].storeUnaligned(out + 4 * c);
+}
+void sseSelect(int mask, const float* a, const float* b, float* out) {
+  select(mask, simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b)).storeUnaligned(out);
+}
 
 }  // namespace
 }  // namespace obvh
@@ -31,6 +39,14 @@ namespace {
 float avxMinOfLanes(const float* values, int mask) { return minOfLanes(simd::Float8Avx::load(values), mask); }
 void avxFromLanes(const float* values, float* out) {
   simd::Float8Avx::fromLanes([&](int lane) { return values[lane]; }).store(out);
+}
+void avxLoadColumns(const float* rows, size_t stride, float* out) {
+  simd::Float8Avx columns[8];
+  simd::Float8Avx::loadColumns(rows, stride, columns);
+  for (int c = 0; c < 8; ++c) _mm256_storeu_ps(out + 8 * c, columns[c].v);
+}
+void avxSelect(int mask, const float* a, const float* b, float* out) {
+  _mm256_storeu_ps(out, select(mask, simd::Float8Avx{_mm256_loadu_ps(a)}, simd::Float8Avx{_mm256_loadu_ps(b)}).v);
 }
 }  // namespace
 }  // namespace obvh
@@ -106,6 +122,52 @@ TEST(SimdLanes, ReplaceNaNAndDivisionMatchTheScalarReference) {
     EXPECT_EQ(sse[lane], expected[lane]) << "lane " << lane;
     EXPECT_EQ(reference[lane], expected[lane]) << "lane " << lane;
   }
+}
+
+// loadColumns: column c of N rows of a strided array (the leading fields of N structs of `stride`
+// floats, as PacketLanes reads its rays), in the SIMD types as in the reference; every value
+// distinct, so a swapped lane or column fails.
+template <int N>
+void expectLoadColumnsMatchesReference(void (*simdLoadColumns)(const float*, size_t, float*)) {
+  constexpr size_t kStride = 10;  // a Ray is ten floats
+  float rows[N * kStride];
+  for (size_t i = 0; i < N * kStride; ++i) rows[i] = float(i) + 0.25f;
+  float simd[N * N];
+  simdLoadColumns(rows, kStride, simd);
+  simd::FloatScalar<N> reference[N];
+  simd::FloatScalar<N>::loadColumns(rows, kStride, reference);
+  for (int c = 0; c < N; ++c)
+    for (int lane = 0; lane < N; ++lane) {
+      EXPECT_EQ(reference[c].v[lane], rows[size_t(lane) * kStride + size_t(c)]) << "column " << c << " lane " << lane;
+      EXPECT_EQ(simd[c * N + lane], rows[size_t(lane) * kStride + size_t(c)]) << "column " << c << " lane " << lane;
+    }
+}
+
+TEST(SimdLanes, LoadColumnsMatchesTheScalarReference) {
+  expectLoadColumnsMatchesReference<4>(sseLoadColumns);
+  if (simd::cpuHasAvx2()) expectLoadColumnsMatchesReference<8>(avxLoadColumns);
+}
+
+// select takes a's lane where the mask's bit is set, b's elsewhere, for every mask.
+template <int N>
+void expectSelectMatchesReference(void (*simdSelect)(int, const float*, const float*, float*)) {
+  float a[N], b[N];
+  for (int lane = 0; lane < N; ++lane) a[lane] = float(lane + 1), b[lane] = -float(lane + 1);
+  for (int mask = 0; mask < (1 << N); ++mask) {
+    float simd[N], reference[N];
+    simdSelect(mask, a, b, simd);
+    select(mask, simd::FloatScalar<N>::load(a), simd::FloatScalar<N>::load(b)).store(reference);
+    for (int lane = 0; lane < N; ++lane) {
+      const float expected = (mask >> lane) & 1 ? a[lane] : b[lane];
+      ASSERT_EQ(reference[lane], expected) << "mask " << mask << " lane " << lane;
+      ASSERT_EQ(simd[lane], expected) << "mask " << mask << " lane " << lane;
+    }
+  }
+}
+
+TEST(SimdLanes, SelectMatchesTheScalarReference) {
+  expectSelectMatchesReference<4>(sseSelect);
+  if (simd::cpuHasAvx2()) expectSelectMatchesReference<8>(avxSelect);
 }
 
 }  // namespace
