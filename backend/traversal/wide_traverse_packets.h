@@ -65,7 +65,7 @@ struct PacketLanes {
       const int on = int((active >> base) & ((1u << kLanes) - 1));
       const auto maxOfLanes = [&](const FN& x) { return -minOfLanes(zero - x, on); };
       // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
-      FN tfarLanes = FN::fromLanes([&](int lane) { return rays[base + lane].tfar; });
+      const FN tfarLanes = FN::fromLanes([&](int lane) { return rays[base + lane].tfar; });
       select(on, tfarLanes, zero - infinity).store(tfar + base);
       if (on == 0) {
         infinity.store(tnear + base);
