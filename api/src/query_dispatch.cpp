@@ -8,6 +8,8 @@
 
 #ifdef __SSE2__
 #include <emmintrin.h>
+
+#include "simd/float4_sse.h"
 #endif
 
 namespace obvh::api {
@@ -116,12 +118,9 @@ uint32_t gatherLiveLanesByFours(const int* valid, RTCRayN* rayN, unsigned N, uns
     live |= uint32_t(active & ~empty) << k;
     float* out = reinterpret_cast<float*>(rays + k);
     for (int half = 0; half < 2; ++half) {  // org and tnear, then dir and time
-      __m128 a = lanes(4 * half), b = lanes(4 * half + 1), c = lanes(4 * half + 2), d = lanes(4 * half + 3);
-      _MM_TRANSPOSE4_PS(a, b, c, d);
-      _mm_storeu_ps(out + 4 * half, a);
-      _mm_storeu_ps(out + 10 + 4 * half, b);
-      _mm_storeu_ps(out + 20 + 4 * half, c);
-      _mm_storeu_ps(out + 30 + 4 * half, d);
+      simd::Float4Sse leading[4];             // of the four rays, one each
+      simd::Float4Sse::loadColumns(row + unsigned(4 * half) * N + i, N, leading);
+      for (int lane = 0; lane < 4; ++lane) leading[lane].storeUnaligned(out + 10 * lane + 4 * half);
     }
     const __m128 mask = masksOn ? lanes(9) : _mm_castsi128_ps(_mm_set1_epi32(-1));
     const __m128 low = _mm_unpacklo_ps(tfar, mask), high = _mm_unpackhi_ps(tfar, mask);
