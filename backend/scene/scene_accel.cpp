@@ -236,6 +236,8 @@ void SceneAccel::makeTriangleViews() {
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) {
     triangleOrientedView_ = {&triangleOriented_, set};
+    const Box3f& sceneBox = triangleBvh_.nodes[0].bounds;
+    const float extent = (sceneBox.upper - sceneBox.lower)[sceneBox.largestAxis()];
     OrientedCollapseOptions collapse;
     collapse.sahOptimal = options_.collapse == WideCollapse::SahOptimal;
     // Merging subtrees into leaves beyond the binary tree's leaf size (28 like bvh8's), or costing a
@@ -243,10 +245,10 @@ void SceneAccel::makeTriangleViews() {
     collapse.maxLeafPrims = uint32_t(std::max(options_.maxLeafSize, 1));
     if (options_.obbWidth == 4) {
       triangleOrientedWide4_ = collapseOrientedToWide<4>(triangleOriented_, triangles_.data(), collapse);
-      triangleOrientedWideView4_ = {&triangleOrientedWide4_, set};
+      triangleOrientedWideView4_ = {&triangleOrientedWide4_, set, extent};
     } else if (options_.obbWidth == 8) {
       triangleOrientedWide8_ = collapseOrientedToWide<8>(triangleOriented_, triangles_.data(), collapse);
-      triangleOrientedWideView8_ = {&triangleOrientedWide8_, set};
+      triangleOrientedWideView8_ = {&triangleOrientedWide8_, set, extent};
     }
   }
   CollapseOptions collapse;

@@ -15,6 +15,7 @@ template <int N>
 struct TriangleOrientedWideView {
   const OrientedWideBvh<N>* bvh = nullptr;
   TriangleSet set;
+  float extent = 0.f;  // the largest side of the scene's box (single rays judge their coherence by it)
   bool empty() const { return bvh == nullptr || bvh->empty(); }
 };
 

@@ -12,6 +12,7 @@
 #include "traversal/box_test.h"
 #include "traversal/oriented_box_test.h"
 #include "traversal/oriented_wide_traversal.h"
+#include "traversal/ray_coherence.h"
 #include "traversal/triangle_block_leaf.h"
 #include "traversal/wide_walk.h"
 
@@ -136,17 +137,26 @@ struct PaletteWideNodes {
   }
 };
 
+// Both walk with kPredictLanes when the ray follows the thread's previous one (ray_coherence.h);
+// the counted walks (metrics, heatmaps) visit the same nodes either way and keep the plain form.
 template <typename FN, typename F4, bool kCounted, typename Nodes>
 bool closestThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
                          const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   WatertightRayOnDemand watertight;
   bool found = false;
-  walkWideTree<FN::kWidth, true, kCounted>(nodes, bvh.rootChild, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  const auto leafVisitor = [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                                watertight.of(ray, view.set), ray, hit, state);
     return false;
-  }, counters);
+  };
+  if constexpr (!kCounted) {
+    if (worthPredicting(ray, view.extent)) {
+      walkWideTree<FN::kWidth, true, false, true, true>(nodes, bvh.rootChild, ray, leafVisitor, counters);
+      return found;
+    }
+  }
+  walkWideTree<FN::kWidth, true, kCounted>(nodes, bvh.rootChild, ray, leafVisitor, counters);
   return found;
 }
 
@@ -156,11 +166,18 @@ bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWid
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   WatertightRayOnDemand watertight;
   bool found = false;
-  walkWideTree<FN::kWidth, false, kCounted>(nodes, bvh.rootChild, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  const auto leafVisitor = [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                           watertight.of(ray, view.set), ray, state);
     return found;
-  }, counters);
+  };
+  if constexpr (!kCounted) {
+    if (worthPredicting(ray, view.extent)) {
+      walkWideTree<FN::kWidth, false, false, false, true>(nodes, bvh.rootChild, ray, leafVisitor, counters);
+      return found;
+    }
+  }
+  walkWideTree<FN::kWidth, false, kCounted>(nodes, bvh.rootChild, ray, leafVisitor, counters);
   return found;
 }
 
