@@ -22,7 +22,8 @@ inline thread_local PreviousRay previousRay;
 
 // True when the ray starts within 1/32 of sceneExtent (the largest side of the scene's box) of the
 // previous ray's origin and points within about 2.6 degrees of its direction (cos^2 >= 0.998);
-// records the ray as the previous one. NaN or infinite rays compare false.
+// records the ray as the previous one. A ray with a NaN coordinate follows nothing, nor does the
+// ray after it. Either answer only picks a walk: both give the same hits.
 inline bool followsPreviousRay(const Ray& ray, float sceneExtent) {
   PreviousRay* record = &previousRay;
   // One look-up of the thread's record: GCC otherwise repeats it (a call to the TLS resolver when

@@ -107,8 +107,8 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
         continue;
       }
       if (!kSorted && !kClosest) {
-        const int lane = __builtin_ctz(unsigned(mask));
-        current = kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
+        const int first = __builtin_ctz(unsigned(mask));
+        current = kPredictLanes ? childOfPredictedLane<N>(child, first) : child[first];
         mask &= mask - 1;
         while (mask) {
           const int lane = __builtin_ctz(unsigned(mask));
