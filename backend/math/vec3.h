@@ -54,6 +54,8 @@ struct Box3f {
     const Vec3f d = upper - lower;
     return (d.x >= d.y && d.x >= d.z) ? 0 : (d.y >= d.z ? 1 : 2);
   }
+  // The length of the box's longest side; 0 for an empty box.
+  float largestSide() const { return empty() ? 0.f : (upper - lower)[largestAxis()]; }
 };
 
 }  // namespace obvh

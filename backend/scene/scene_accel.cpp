@@ -236,8 +236,7 @@ void SceneAccel::makeTriangleViews() {
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) {
     triangleOrientedView_ = {&triangleOriented_, set};
-    const Box3f& sceneBox = triangleBvh_.nodes[0].bounds;
-    const float extent = (sceneBox.upper - sceneBox.lower)[sceneBox.largestAxis()];
+    const float extent = triangleBvh_.nodes[0].bounds.largestSide();
     OrientedCollapseOptions collapse;
     collapse.sahOptimal = options_.collapse == WideCollapse::SahOptimal;
     // Merging subtrees into leaves beyond the binary tree's leaf size (28 like bvh8's), or costing a

@@ -76,9 +76,7 @@ struct Float4Sse {
   }
   // See FloatScalar::minOfLanes.
   friend float minOfLanes(Float4Sse a, int mask) {
-    const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);
-    const __m128 in = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(mask), bits), bits));
-    const __m128 x = _mm_or_ps(_mm_and_ps(in, a.v), _mm_andnot_ps(in, _mm_set1_ps(__builtin_inff())));
+    const __m128 x = select(mask, a, Float4Sse{_mm_set1_ps(__builtin_inff())}).v;
     const __m128 pairs = _mm_min_ps(x, _mm_movehl_ps(x, x));
     return _mm_cvtss_f32(_mm_min_ss(pairs, _mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 1, 1, 1))));
   }

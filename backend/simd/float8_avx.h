@@ -91,9 +91,7 @@ struct Float8Avx {
   }
   // See FloatScalar::minOfLanes.
   OBVH_AVX2 friend float minOfLanes(Float8Avx a, int mask) {
-    const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-    const __m256i in = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask), bits), bits);
-    const __m256 x = _mm256_blendv_ps(_mm256_set1_ps(__builtin_inff()), a.v, _mm256_castsi256_ps(in));
+    const __m256 x = select(mask, a, Float8Avx{_mm256_set1_ps(__builtin_inff())}).v;
     const __m128 halves = _mm_min_ps(_mm256_castps256_ps128(x), _mm256_extractf128_ps(x, 1));
     const __m128 pairs = _mm_min_ps(halves, _mm_movehl_ps(halves, halves));
     return _mm_cvtss_f32(_mm_min_ss(pairs, _mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 1, 1, 1))));

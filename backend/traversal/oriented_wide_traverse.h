@@ -137,26 +137,31 @@ struct PaletteWideNodes {
   }
 };
 
-// Both walk with kPredictLanes when the ray follows the thread's previous one (ray_coherence.h);
-// the counted walks (metrics, heatmaps) visit the same nodes either way and keep the plain form.
+// The walk for one ray: with kPredictLanes when the ray follows the thread's previous one
+// (ray_coherence.h); the counted walks (metrics, heatmaps) visit the same nodes either way and keep
+// the plain form.
+template <bool kClosest, bool kCounted, int N, typename Nodes, typename LeafVisitor>
+[[gnu::always_inline]] inline void walkOrientedTree(const Nodes& nodes, const TriangleOrientedWideView<N>& view,
+                                                    const Ray& ray, LeafVisitor&& leafVisitor,
+                                                    TraversalCounters* counters) {
+  if constexpr (!kCounted) {
+    if (worthPredicting(ray, view.extent))
+      return walkWideTree<N, kClosest, false, kClosest, true>(nodes, view.bvh->rootChild, ray, leafVisitor, counters);
+  }
+  walkWideTree<N, kClosest, kCounted>(nodes, view.bvh->rootChild, ray, leafVisitor, counters);
+}
+
 template <typename FN, typename F4, bool kCounted, typename Nodes>
 bool closestThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
                          const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   WatertightRayOnDemand watertight;
   bool found = false;
-  const auto leafVisitor = [&](uint32_t firstBlock, uint32_t blockCount) {
+  walkOrientedTree<true, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                                watertight.of(ray, view.set), ray, hit, state);
     return false;
-  };
-  if constexpr (!kCounted) {
-    if (worthPredicting(ray, view.extent)) {
-      walkWideTree<FN::kWidth, true, false, true, true>(nodes, bvh.rootChild, ray, leafVisitor, counters);
-      return found;
-    }
-  }
-  walkWideTree<FN::kWidth, true, kCounted>(nodes, bvh.rootChild, ray, leafVisitor, counters);
+  }, counters);
   return found;
 }
 
@@ -166,18 +171,11 @@ bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWid
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   WatertightRayOnDemand watertight;
   bool found = false;
-  const auto leafVisitor = [&](uint32_t firstBlock, uint32_t blockCount) {
+  walkOrientedTree<false, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                           watertight.of(ray, view.set), ray, state);
     return found;
-  };
-  if constexpr (!kCounted) {
-    if (worthPredicting(ray, view.extent)) {
-      walkWideTree<FN::kWidth, false, false, false, true>(nodes, bvh.rootChild, ray, leafVisitor, counters);
-      return found;
-    }
-  }
-  walkWideTree<FN::kWidth, false, kCounted>(nodes, bvh.rootChild, ray, leafVisitor, counters);
+  }, counters);
   return found;
 }
 

@@ -63,9 +63,8 @@ const WideKernels<N>& wideKernels(KernelIsa isa, ChildOrder order = ChildOrder::
 template <int N>
 TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set,
                                  ChildOrder order = ChildOrder::NearToFar) {
-  const Box3f root = bvh.rootNodeBox();
-  const float extent = root.empty() ? 0.f : (root.upper - root.lower)[root.largestAxis()];
-  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N), order), extent};
+  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N), order),
+          bvh.rootNodeBox().largestSide()};
 }
 
 // Both count into state.counters when it is set. Without an isa, the view's kernels run.

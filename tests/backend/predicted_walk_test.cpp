@@ -3,7 +3,6 @@
 // the walk with predicted lanes answers every ray exactly as the plain walk does.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -114,13 +113,11 @@ std::unique_ptr<StackScene> buildStack(const char* preset, AccelLayout layout, i
   options.obbPalette = palette;
   auto out = std::make_unique<StackScene>();
   out->accel.build(desc, options);
-  float lower[3] = {1e30f, 1e30f, 1e30f}, upper[3] = {-1e30f, -1e30f, -1e30f};
+  Box3f box;
   for (const auto& mesh : scene.meshes)
-    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-      lower[i % 3] = std::min(lower[i % 3], mesh.vertices[i]);
-      upper[i % 3] = std::max(upper[i % 3], mesh.vertices[i]);
-    }
-  for (int axis = 0; axis < 3; ++axis) out->extent = std::max(out->extent, upper[axis] - lower[axis]);
+    for (size_t i = 0; i + 2 < mesh.vertices.size(); i += 3)
+      box.extend(Vec3f{mesh.vertices[i], mesh.vertices[i + 1], mesh.vertices[i + 2]});
+  out->extent = box.largestSide();
   return out;
 }
 
