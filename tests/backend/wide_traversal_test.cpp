@@ -440,7 +440,9 @@ void expectSpreadOriginPacketsMatchSingleRays(KernelIsa isa) {
       const bool f = intersectClosestWide(l.view, single, hit, state, isa);
       ASSERT_EQ(bool((found >> r) & 1), f) << "packet " << p << " lane " << r;
       ASSERT_EQ(bool((blocked >> r) & 1), intersectAnyWide(l.view, rays[r], state, isa)) << "packet " << p << " lane " << r;
-      if (f) EXPECT_EQ(packetRays[r].tfar, single.tfar) << "packet " << p << " lane " << r;
+      if (f) {
+        EXPECT_EQ(packetRays[r].tfar, single.tfar) << "packet " << p << " lane " << r;
+      }
       hits += f;
       occluded += (blocked >> r) & 1;
     }
