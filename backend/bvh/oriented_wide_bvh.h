@@ -53,6 +53,7 @@ struct OrientedWideBvh {
   uint32_t rootChild = WideNode<N>::kEmptyChild;  // a node index, or a leaf code for a leaf root
   bool hasPalette = false;                        // nodes with inPalette set take their frames from `palette`
   FramePalette palette;
+  Box3f bounds;  // of every triangle in the blocks: single rays test it first (traversal/bounds_gate.h)
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
 };
 

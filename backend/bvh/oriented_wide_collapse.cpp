@@ -159,6 +159,16 @@ class OrientedSahCollapse {
   std::vector<Plan> plans_;
 };
 
+// The vertices the blocks' used lanes hold, as written: what the tree's triangle tests see.
+Box3f boundsOfBlocks(const std::vector<TriangleBlock4>& blocks) {
+  Box3f bounds;
+  for (const TriangleBlock4& block : blocks)
+    for (int lane = 0; lane < 4; ++lane)
+      if ((block.usedLanes() >> lane) & 1)
+        for (int k = 0; k < 3; ++k) bounds.extend(block.vertex(k, lane));
+  return bounds;
+}
+
 }  // namespace
 
 template <int N>
@@ -180,10 +190,11 @@ OrientedWideBvh<N> collapseOrientedToWide(const OrientedBvh& tree, const StoredT
   OrientedWriter<N> writer(tree, trianglesInLeafOrder, out);
   if (!options.sahOptimal) {
     out.rootChild = OrientedGreedyCollapse<N>(tree, writer).emit(0);
-    return out;
+  } else {
+    const uint32_t maxLeafPrims = std::min<uint32_t>(options.maxLeafPrims, 4 * WideNode<N>::kMaxLeafBlocks);
+    out.rootChild = OrientedSahCollapse<N>(tree, writer, maxLeafPrims, options.nodeCost).emit(0);
   }
-  const uint32_t maxLeafPrims = std::min<uint32_t>(options.maxLeafPrims, 4 * WideNode<N>::kMaxLeafBlocks);
-  out.rootChild = OrientedSahCollapse<N>(tree, writer, maxLeafPrims, options.nodeCost).emit(0);
+  out.bounds = boundsOfBlocks(out.blocks);
   return out;
 }
 

@@ -236,7 +236,6 @@ void SceneAccel::makeTriangleViews() {
   triangleView_ = {triangleBvh_.nodes.data(), set};
   if (!triangleOriented_.nodes.empty()) {
     triangleOrientedView_ = {&triangleOriented_, set};
-    const float extent = triangleBvh_.nodes[0].bounds.largestSide();
     OrientedCollapseOptions collapse;
     collapse.sahOptimal = options_.collapse == WideCollapse::SahOptimal;
     // Merging subtrees into leaves beyond the binary tree's leaf size (28 like bvh8's), or costing a
@@ -244,10 +243,10 @@ void SceneAccel::makeTriangleViews() {
     collapse.maxLeafPrims = uint32_t(std::max(options_.maxLeafSize, 1));
     if (options_.obbWidth == 4) {
       triangleOrientedWide4_ = collapseOrientedToWide<4>(triangleOriented_, triangles_.data(), collapse);
-      triangleOrientedWideView4_ = {&triangleOrientedWide4_, set, extent};
+      triangleOrientedWideView4_ = makeOrientedWideView(triangleOrientedWide4_, set);
     } else if (options_.obbWidth == 8) {
       triangleOrientedWide8_ = collapseOrientedToWide<8>(triangleOriented_, triangles_.data(), collapse);
-      triangleOrientedWideView8_ = {&triangleOrientedWide8_, set, extent};
+      triangleOrientedWideView8_ = makeOrientedWideView(triangleOrientedWide8_, set);
     }
   }
   CollapseOptions collapse;

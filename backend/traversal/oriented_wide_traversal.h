@@ -6,6 +6,7 @@
 #pragma once
 
 #include "bvh/oriented_wide_bvh.h"
+#include "traversal/bounds_gate.h"
 #include "traversal/traversal_counters.h"
 #include "traversal/triangle_leaf.h"
 
@@ -16,8 +17,15 @@ struct TriangleOrientedWideView {
   const OrientedWideBvh<N>* bvh = nullptr;
   TriangleSet set;
   float extent = 0.f;  // the largest side of the scene's box (single rays judge their coherence by it)
+  GateBox gate;        // the tree's bounds, every single ray's first test
   bool empty() const { return bvh == nullptr || bvh->empty(); }
 };
+
+// The view of a tree with the bounds and extent its blocks give.
+template <int N>
+TriangleOrientedWideView<N> makeOrientedWideView(const OrientedWideBvh<N>& bvh, const TriangleSet& set) {
+  return {&bvh, set, bvh.bounds.largestSide(), GateBox(bvh.bounds)};
+}
 
 // The node width the oriented layouts trace fastest on this CPU: 8 with AVX2, else 4.
 int fastestOrientedWidth();

@@ -179,13 +179,21 @@ bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWid
   return found;
 }
 
+// The tree's bounds (bounds_gate.h), counted as one axis-aligned volume test.
+template <typename F4, bool kCounted, int N>
+[[gnu::always_inline]] inline bool passesGate(const TriangleOrientedWideView<N>& view, const Ray& ray,
+                                              TraversalCounters* counters) {
+  if constexpr (kCounted) ++counters->aabbTests;
+  return mayEnterBox<F4>(view.gate, ray);
+}
+
 // Each child's frame transformed per node; kUsePalette: a palette tree's frames transformed once
 // a ray (eight-lane vectors only).
 template <typename FN, typename F4, bool kCounted, bool kUsePalette = false>
 bool closestInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
                            const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  if (bvh.empty()) return false;
+  if (bvh.empty() || !passesGate<F4, kCounted>(view, ray, counters)) return false;
   const OrientedWideRay<FN> r(ray);
   if constexpr (kUsePalette) {
     const PaletteRay<FN> p(r, bvh.palette);
@@ -199,7 +207,7 @@ template <typename FN, typename F4, bool kCounted, bool kUsePalette = false>
 bool anyInOrientedWide(const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray, const QueryState& state,
                        TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  if (bvh.empty()) return false;
+  if (bvh.empty() || !passesGate<F4, kCounted>(view, ray, counters)) return false;
   const OrientedWideRay<FN> r(ray);
   if constexpr (kUsePalette) {
     const PaletteRay<FN> p(r, bvh.palette);

@@ -99,7 +99,8 @@ TEST(FramePalette, KernelEntersTheSameChildrenAsThePerChildTransform) {
   set.geometryMasks = allMasks;
   set.intersectFiltered = noFilters;
   set.occlusionFiltered = noFilters;
-  const TriangleOrientedWideView<8> palette{&t.wide, set}, transformed{&perChild, set};
+  const TriangleOrientedWideView<8> palette = makeOrientedWideView(t.wide, set),
+                                    transformed = makeOrientedWideView(perChild, set);
   Box3f bounds;
   for (const StoredTriangle& tri : t.inLeafOrder) bounds.extend(tri.v0), bounds.extend(tri.v1), bounds.extend(tri.v2);
   std::mt19937 rng(41);
