@@ -29,9 +29,10 @@ struct GateBox {
   }
 };
 
-// A distance limit raised by the slab test's rounding (Ize 2013: three roundings in each distance)
-// away from zero's side it must not cross: larger for t >= 0, less negative for t < 0. Infinities
-// stay themselves; a NaN stays NaN, and every comparison with it keeps the ray.
+// A distance limit moved by the slab test's rounding allowance (Ize 2013: three roundings in each
+// computed distance) in the direction that keeps more: scaled up by 1 + 2 gamma(3) for t >= 0,
+// towards zero by as much for t < 0. Infinities stay themselves; a NaN stays NaN, and every
+// comparison with it keeps the ray.
 inline float raisedLimit(float t) {
   return t * (t >= 0.f ? kConservativeFarScale : 1.f / kConservativeFarScale);
 }

@@ -16,7 +16,7 @@ template <int N>
 struct TriangleOrientedWideView {
   const OrientedWideBvh<N>* bvh = nullptr;
   TriangleSet set;
-  float extent = 0.f;  // the largest side of the scene's box (single rays judge their coherence by it)
+  float extent = 0.f;  // the largest side of the tree's box (single rays judge their coherence by it)
   GateBox gate;        // the tree's bounds, every single ray's first test
   bool empty() const { return bvh == nullptr || bvh->empty(); }
 };
