@@ -37,11 +37,10 @@ inline float raisedLimit(float t) {
   return t * (t >= 0.f ? kConservativeFarScale : 1.f / kConservativeFarScale);
 }
 
-// False only when the slab test proves that the ray misses the box within [tnear, tfar]. A ray that
-// does not move along an axis is inside that slab when its origin is in [lower, upper] (a plane
-// through the origin makes 0 * inf = NaN, replaced by the unbounded side, as the nodes' test does).
-// Any NaN left (a NaN ray) fails the final comparison, so such rays go on to the tree, which
-// answers them as before.
+// False only when the slab test proves that the ray misses the box within [tnear, tfar]: the three
+// axes' slabs (slabInterval, box_test.h, whose rule for rays that do not move along an axis the
+// nodes' test shares) as lanes. Any NaN left (a NaN ray) fails the final comparison, so such rays
+// go on to the tree, which answers them as before.
 template <typename F4>
 [[gnu::always_inline]] inline bool mayEnterBox(const GateBox& box, const Ray& ray) {
   // Lane by lane, not one four-float load: a caller that has just written the ray field by field
@@ -49,11 +48,10 @@ template <typename F4>
   // loop, whose rays are made that way, more than the gate saved.
   const F4 org = F4::fromLanes([&](int axis) { return axis < 3 ? ray.org[axis] : 0.f; });
   const F4 inv = F4::broadcast(1.f) / F4::fromLanes([&](int axis) { return axis < 3 ? ray.dir[axis] : 1.f; });
-  const F4 t0 = replaceNaN((F4::load(box.lower) - org) * inv, F4::broadcast(0.f) - inv);
-  const F4 t1 = replaceNaN((F4::load(box.upper) - org) * inv, inv);
+  const SlabInterval<F4> slab = slabInterval(F4::load(box.lower), F4::load(box.upper), org, inv);
   // The largest entry as the negated smallest of the negated entries: exact, and one lane reduction.
-  const float entry = std::max(0.f - minOfLanes(F4::broadcast(0.f) - min(t0, t1), 15), ray.tnear);
-  const float exit = minOfLanes(max(t0, t1), 15);
+  const float entry = std::max(0.f - minOfLanes(F4::broadcast(0.f) - slab.entry, 15), ray.tnear);
+  const float exit = minOfLanes(slab.exit, 15);
   return !(entry > raisedLimit(exit) || entry > raisedLimit(ray.tfar));
 }
 

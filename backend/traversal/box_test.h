@@ -47,6 +47,25 @@ inline float intersectBoxWithZeroComponents(const BoxRay& r, const Box3f& box, f
   return tmin <= std::min(tmax * kConservativeFarScale, tfar) ? tmin : std::numeric_limits<float>::infinity();
 }
 
+// One axis' slab of several boxes at once (F: SIMD lanes, one box a lane), given the ray's origin
+// and inverse direction along that axis: the distances at which the ray enters and leaves it. A ray
+// that does not move along the axis (1/dir infinite) gets -inf..+inf from a slab that holds its
+// origin and an empty interval from one that does not; an origin exactly on a plane makes that
+// plane's distance 0 * inf = NaN, replaced by the value that leaves the slab unbounded on that side
+// (-1/dir for the lower plane, 1/dir for the upper), so the ray counts as inside, as in the scalar
+// test above.
+template <typename F>
+struct SlabInterval {
+  F entry, exit;
+};
+
+template <typename F>
+[[gnu::always_inline]] inline SlabInterval<F> slabInterval(F lowerPlane, F upperPlane, F o, F inv) {
+  const F t0 = replaceNaN((lowerPlane - o) * inv, F::broadcast(0.f) - inv);
+  const F t1 = replaceNaN((upperPlane - o) * inv, inv);
+  return {min(t0, t1), max(t0, t1)};
+}
+
 // Returns the entry distance, or +inf when the box is missed within [tnear, tfar].
 inline float intersectBox(const BoxRay& r, const Box3f& box, float tnear, float tfar) {
   if (r.hasZeroComponent) return intersectBoxWithZeroComponents(r, box, tnear, tfar);

@@ -28,19 +28,15 @@ struct OrientedWideRay {
   }
 };
 
-// One frame row's slab of every child, given the ray's origin and inverse direction along that row
-// in each child's frame. A ray that does not move along a frame axis (1/dir infinite) gets
-// -inf..+inf from a slab that holds its origin and an empty interval from one that does not; an
-// origin exactly on a plane makes that plane's distance 0 * inf = NaN, replaced by the value that
-// leaves the slab unbounded on that side (-1/dir for the lower plane, 1/dir for the upper), so the
-// ray counts as inside, as in the scalar box test.
+// One frame row's slab of every child (slabInterval, box_test.h), given the ray's origin and
+// inverse direction along that row in each child's frame, the boxes widened by the margin.
 template <typename FN>
 [[gnu::always_inline]] inline void clipBySlabRow(const OrientedWideNode<FN::kWidth>& node, int row, FN o, FN inv,
                                                  FN margin, FN& nearT, FN& farT) {
-  const FN t0 = replaceNaN((FN::load(node.lower[row]) - margin - o) * inv, FN::broadcast(0.f) - inv);
-  const FN t1 = replaceNaN((FN::load(node.upper[row]) + margin - o) * inv, inv);
-  nearT = max(min(t0, t1), nearT);
-  farT = min(max(t0, t1), farT);
+  const SlabInterval<FN> slab =
+      slabInterval(FN::load(node.lower[row]) - margin, FN::load(node.upper[row]) + margin, o, inv);
+  nearT = max(slab.entry, nearT);
+  farT = min(slab.exit, farT);
 }
 
 // Per child as in OrientedRay::enter: the transformed ray against the box widened by the
