@@ -155,13 +155,8 @@ void expectGrazingRaysAnswerAlike(const SceneAccel& wide, const SceneAccel& bina
 // afar and along the axes, find what the binary oriented tree (no gate) finds.
 TEST(BoundsGate, GrazingRaysAnswerAsTheBinaryOrientedTree) {
   const tools::SceneData scene = tools::generateStack(tools::findStackPreset("small-1.5k")->params, "small-1.5k").asScene();
-  SceneDesc desc;
-  for (size_t g = 0; g < scene.meshes.size(); ++g) desc.meshes.push_back(tools::backendMeshDesc(scene.meshes[g], uint32_t(g)));
-  desc.geometryIdLimit = uint32_t(scene.meshes.size());
-  Box3f bounds;
-  for (const auto& mesh : scene.meshes)
-    for (size_t i = 0; i + 2 < mesh.vertices.size(); i += 3)
-      bounds.extend(Vec3f{mesh.vertices[i], mesh.vertices[i + 1], mesh.vertices[i + 2]});
+  const SceneDesc desc = tools::backendSceneDesc(scene);
+  const Box3f bounds = tools::backendSceneBounds(scene);
   BuildOptions reference;
   reference.layout = AccelLayout::Obb;
   reference.maxLeafSize = 0;

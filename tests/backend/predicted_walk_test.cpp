@@ -103,9 +103,7 @@ struct StackScene {
 
 std::unique_ptr<StackScene> buildStack(const char* preset, AccelLayout layout, int obbWidth, int palette) {
   const tools::SceneData scene = tools::generateStack(tools::findStackPreset(preset)->params, preset).asScene();
-  SceneDesc desc;
-  for (size_t g = 0; g < scene.meshes.size(); ++g) desc.meshes.push_back(tools::backendMeshDesc(scene.meshes[g], uint32_t(g)));
-  desc.geometryIdLimit = uint32_t(scene.meshes.size());
+  const SceneDesc desc = tools::backendSceneDesc(scene);
   BuildOptions options;
   options.layout = layout;
   options.maxLeafSize = 0;
@@ -113,11 +111,7 @@ std::unique_ptr<StackScene> buildStack(const char* preset, AccelLayout layout, i
   options.obbPalette = palette;
   auto out = std::make_unique<StackScene>();
   out->accel.build(desc, options);
-  Box3f box;
-  for (const auto& mesh : scene.meshes)
-    for (size_t i = 0; i + 2 < mesh.vertices.size(); i += 3)
-      box.extend(Vec3f{mesh.vertices[i], mesh.vertices[i + 1], mesh.vertices[i + 2]});
-  out->extent = box.largestSide();
+  out->extent = tools::backendSceneBounds(scene).largestSide();
   return out;
 }
 

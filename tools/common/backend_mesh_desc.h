@@ -5,7 +5,9 @@
 
 #include <cstdint>
 
+#include "math/vec3.h"
 #include "scene/mesh_desc.h"
+#include "scene/scene_desc.h"
 #include "scene_data.h"
 
 namespace obvh::tools {
@@ -27,6 +29,23 @@ inline MeshDesc backendMeshDesc(const MeshData& mesh, uint32_t geomID = 0) {
   desc.primCount = mesh.primitiveCount();
   desc.geomID = geomID;
   return desc;
+}
+
+// Every mesh of the scene, geometry IDs in order.
+inline SceneDesc backendSceneDesc(const SceneData& scene) {
+  SceneDesc desc;
+  for (size_t g = 0; g < scene.meshes.size(); ++g) desc.meshes.push_back(backendMeshDesc(scene.meshes[g], uint32_t(g)));
+  desc.geometryIdLimit = uint32_t(scene.meshes.size());
+  return desc;
+}
+
+// The box of every vertex of the scene's meshes.
+inline Box3f backendSceneBounds(const SceneData& scene) {
+  Box3f box;
+  for (const MeshData& mesh : scene.meshes)
+    for (size_t i = 0; i + 2 < mesh.vertices.size(); i += 3)
+      box.extend(Vec3f{mesh.vertices[i], mesh.vertices[i + 1], mesh.vertices[i + 2]});
+  return box;
 }
 
 }  // namespace obvh::tools

@@ -16,13 +16,6 @@
 namespace obvh::tools {
 namespace {
 
-SceneDesc describe(const SceneData& scene) {
-  SceneDesc desc;
-  for (size_t g = 0; g < scene.meshes.size(); ++g) desc.meshes.push_back(backendMeshDesc(scene.meshes[g], uint32_t(g)));
-  desc.geometryIdLimit = uint32_t(scene.meshes.size());
-  return desc;
-}
-
 Ray backendRay(const RTCRay& r) {
   Ray ray;
   ray.org = {r.org_x, r.org_y, r.org_z};
@@ -38,7 +31,7 @@ bool countsVolumeTests(AccelLayout layout) { return layout != AccelLayout::Bvh4 
 
 LayoutMeasure measureLayout(const SceneData& scene, const LayoutConfig& config, const std::vector<View>& views,
                             int runs) {
-  const SceneDesc desc = describe(scene);
+  const SceneDesc desc = backendSceneDesc(scene);
   LayoutMeasure m;
   std::vector<double> buildTimes;
   SceneAccel accel;
