@@ -28,9 +28,7 @@ struct PaletteTree {
 // mixed-6.9k: lines at several angles, vias and steps, more directions than a small palette holds.
 PaletteTree buildMixedStack(int paletteFrames) {
   const tools::SceneData scene = tools::generateStack(tools::findStackPreset("mixed-6.9k")->params, "mixed").asScene();
-  std::vector<MeshDesc> meshes;
-  for (size_t g = 0; g < scene.meshes.size(); ++g) meshes.push_back(tools::backendMeshDesc(scene.meshes[g], uint32_t(g)));
-  CollectedPrimitives collected = collectPrimitives(meshes);
+  CollectedPrimitives collected = collectPrimitives(tools::backendSceneDesc(scene).meshes);
   BuildOptions options;
   options.layout = AccelLayout::Obb;
   options.obbPalette = paletteFrames;
