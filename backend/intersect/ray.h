@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "math/vec3.h"
 
@@ -19,6 +20,16 @@ struct Ray {
   float tfar = 0.f;   // hits may lie at tfar; shrinks to the closest hit found so far
   uint32_t mask = 0xFFFFFFFFu;
 };
+
+// A ray from org along dir over the segment (tnear, tfar].
+inline Ray rayAlong(Vec3f org, Vec3f dir, float tnear = 0.f, float tfar = std::numeric_limits<float>::infinity()) {
+  Ray ray;
+  ray.org = org;
+  ray.dir = dir;
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  return ray;
+}
 
 struct Hit {
   Vec3f Ng;  // unnormalized, in Embree's orientation

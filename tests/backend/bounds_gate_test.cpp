@@ -23,15 +23,6 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-Ray rayFrom(Vec3f org, Vec3f dir, float tnear = 0.f, float tfar = kInf) {
-  Ray ray;
-  ray.org = org;
-  ray.dir = dir;
-  ray.tnear = tnear;
-  ray.tfar = tfar;
-  return ray;
-}
-
 // Both instantiations give the same verdict; returns it.
 bool passes(const GateBox& box, const Ray& ray) {
   const bool sse = mayEnterBox<simd::Float4Sse>(box, ray);
@@ -42,32 +33,32 @@ bool passes(const GateBox& box, const Ray& ray) {
 const GateBox kUnitBox(Box3f{Vec3f{0.f, 0.f, 0.f}, Vec3f{1.f, 1.f, 1.f}});
 
 TEST(BoundsGate, CullsRaysThatMissAndKeepsRaysThatEnter) {
-  EXPECT_TRUE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
-  EXPECT_TRUE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 0.5f}, {0.3f, -0.2f, 1.f})));  // origin inside
-  EXPECT_TRUE(passes(kUnitBox, rayFrom({-2.f, -2.f, -2.f}, {1.f, 1.f, 1.f})));      // through the corners
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({1.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));     // beside it, straight down
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({-2.f, 0.5f, 0.5f}, {1.f, 1.f, 0.f})));     // passes above one edge
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f})));      // the box behind the origin
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, 0.f, 1.5f)));  // segment ends short
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, 4.5f)));       // starts beyond it
+  EXPECT_TRUE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
+  EXPECT_TRUE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 0.5f}, {0.3f, -0.2f, 1.f})));  // origin inside
+  EXPECT_TRUE(passes(kUnitBox, rayAlong({-2.f, -2.f, -2.f}, {1.f, 1.f, 1.f})));      // through the corners
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({1.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));     // beside it, straight down
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({-2.f, 0.5f, 0.5f}, {1.f, 1.f, 0.f})));     // passes above one edge
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f})));      // the box behind the origin
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, 0.f, 1.5f)));  // segment ends short
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, 4.5f)));       // starts beyond it
   // Negative tnear reaches back to a box behind the origin.
-  EXPECT_TRUE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f}, -2.5f)));
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f}, -1.5f)));
+  EXPECT_TRUE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f}, -2.5f)));
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f}, -1.5f)));
 }
 
 TEST(BoundsGate, RaysAlongAnAxisAndOriginsOnThePlanes) {
   // Origins on each bounding plane, moving within it (0 * inf in the slab's distances).
   for (const float side : {0.f, 1.f}) {
-    EXPECT_TRUE(passes(kUnitBox, rayFrom({side, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
-    EXPECT_TRUE(passes(kUnitBox, rayFrom({side, 0.5f, 3.f}, {-0.f, 0.f, -1.f})));
-    EXPECT_TRUE(passes(kUnitBox, rayFrom({0.5f, side, 3.f}, {0.f, -0.f, -1.f})));
-    EXPECT_TRUE(passes(kUnitBox, rayFrom({side, side, -4.f}, {0.f, 0.f, 1.f})));
+    EXPECT_TRUE(passes(kUnitBox, rayAlong({side, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
+    EXPECT_TRUE(passes(kUnitBox, rayAlong({side, 0.5f, 3.f}, {-0.f, 0.f, -1.f})));
+    EXPECT_TRUE(passes(kUnitBox, rayAlong({0.5f, side, 3.f}, {0.f, -0.f, -1.f})));
+    EXPECT_TRUE(passes(kUnitBox, rayAlong({side, side, -4.f}, {0.f, 0.f, 1.f})));
   }
   // The float just outside a plane, moving parallel to it.
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({std::nextafter(1.f, 2.f), 0.5f, 3.f}, {0.f, 0.f, -1.f})));
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({-0x1p-140f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({std::nextafter(1.f, 2.f), 0.5f, 3.f}, {0.f, 0.f, -1.f})));
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({-0x1p-140f, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
   // A ray along a face's plane from outside the box entirely.
-  EXPECT_TRUE(passes(kUnitBox, rayFrom({-3.f, 1.f, 0.5f}, {1.f, 0.f, 0.f})));
+  EXPECT_TRUE(passes(kUnitBox, rayAlong({-3.f, 1.f, 0.5f}, {1.f, 0.f, 0.f})));
 }
 
 // The smallest float not below x, and the largest not above it.
@@ -101,20 +92,20 @@ TEST(BoundsGate, SegmentsEndingOnAFaceAreKept) {
       exitXY = std::min(exitXY, std::max(t0, t1));
     }
     if (!(entryXY <= entry && exit <= exitXY && entry > 0.0)) continue;
-    EXPECT_TRUE(passes(kUnitBox, rayFrom(org, dir, 0.f, floatAtOrAbove(entry)))) << i;
-    EXPECT_TRUE(passes(kUnitBox, rayFrom(org, dir, floatAtOrBelow(exit), kInf))) << i;
+    EXPECT_TRUE(passes(kUnitBox, rayAlong(org, dir, 0.f, floatAtOrAbove(entry)))) << i;
+    EXPECT_TRUE(passes(kUnitBox, rayAlong(org, dir, floatAtOrBelow(exit), kInf))) << i;
   }
 }
 
 TEST(BoundsGate, NanAndInfiniteRaysDoNotCrashAndUnboundedBoxesPassEverything) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  passes(kUnitBox, rayFrom({nan, 0.5f, 3.f}, {0.f, 0.f, -1.f}));
-  passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {nan, nan, nan}));
-  passes(kUnitBox, rayFrom({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, nan, nan));
-  EXPECT_FALSE(passes(kUnitBox, rayFrom({kInf, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
+  passes(kUnitBox, rayAlong({nan, 0.5f, 3.f}, {0.f, 0.f, -1.f}));
+  passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {nan, nan, nan}));
+  passes(kUnitBox, rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, nan, nan));
+  EXPECT_FALSE(passes(kUnitBox, rayAlong({kInf, 0.5f, 3.f}, {0.f, 0.f, -1.f})));
   const GateBox unbounded;
-  EXPECT_TRUE(passes(unbounded, rayFrom({1e30f, -1e30f, 3.f}, {0.f, 0.f, -1.f})));
-  EXPECT_TRUE(passes(unbounded, rayFrom({0.f, 0.f, 0.f}, {0.f, 0.f, 0.f})));
+  EXPECT_TRUE(passes(unbounded, rayAlong({1e30f, -1e30f, 3.f}, {0.f, 0.f, -1.f})));
+  EXPECT_TRUE(passes(unbounded, rayAlong({0.f, 0.f, 0.f}, {0.f, 0.f, 0.f})));
 }
 
 // Rays aimed at the box's faces and edges, a few ulps either side, slanted from afar and straight
@@ -136,11 +127,11 @@ void expectGrazingRaysAnswerAlike(const SceneAccel& wide, const SceneAccel& bina
     const bool down = i % 5 == 0;  // as an orthographic view's rays
     const Vec3f dir = down ? Vec3f{0.f, 0.f, -1.f} : Vec3f{unit(rng) - 0.5f, unit(rng) - 0.5f, -unit(rng)};
     const Vec3f org = down ? Vec3f{target.x, target.y, bounds.upper.z + 1.f} : target - dir * 50.f;
-    Ray a = rayFrom(org, dir), b = a;
+    Ray a = rayAlong(org, dir), b = a;
     Hit ha, hb;
     const bool fa = wide.intersect(a, ha, state), fb = binary.intersect(b, hb, state);
     ASSERT_EQ(fa, fb) << "ray " << i;
-    ASSERT_EQ(wide.occluded(rayFrom(org, dir), state), binary.occluded(rayFrom(org, dir), state)) << "ray " << i;
+    ASSERT_EQ(wide.occluded(rayAlong(org, dir), state), binary.occluded(rayAlong(org, dir), state)) << "ray " << i;
     hits += fa;
     // The distance only: which of two triangles meeting at the hit is reported depends on the
     // order of the visits, which differs between the trees.

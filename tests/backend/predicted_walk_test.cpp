@@ -20,16 +20,8 @@ namespace {
 
 constexpr float kExtent = 10.f;
 
-Ray rayFrom(Vec3f org, Vec3f dir) {
-  Ray ray;
-  ray.org = org;
-  ray.dir = dir;
-  ray.tfar = std::numeric_limits<float>::infinity();
-  return ray;
-}
-
 // A ray no camera ray follows, so that the next check starts afresh.
-void forgetPreviousRay() { followsPreviousRay(rayFrom({1e6f, 1e6f, 1e6f}, {-1.f, 0.f, 0.f}), kExtent); }
+void forgetPreviousRay() { followsPreviousRay(rayAlong({1e6f, 1e6f, 1e6f}, {-1.f, 0.f, 0.f}), kExtent); }
 
 TEST(RayCoherence, NeighbouringCameraRaysFollowEachOther) {
   forgetPreviousRay();
@@ -40,7 +32,7 @@ TEST(RayCoherence, NeighbouringCameraRaysFollowEachOther) {
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 64; ++x, ++rays) {
       const Vec3f dir{(float(x) - 32.f) / 64.f, (float(y) - 24.f) / 64.f, 1.f};
-      const bool follows = followsPreviousRay(rayFrom({5.f, 5.f, -20.f}, dir), kExtent);
+      const bool follows = followsPreviousRay(rayAlong({5.f, 5.f, -20.f}, dir), kExtent);
       following += follows;
       if (x > 0) {
         EXPECT_TRUE(follows) << x << ", " << y;
@@ -50,10 +42,10 @@ TEST(RayCoherence, NeighbouringCameraRaysFollowEachOther) {
   // Orthographic rays: one direction, origins a pixel apart.
   forgetPreviousRay();
   following = 0;
-  for (int x = 0; x < 64; ++x) following += followsPreviousRay(rayFrom({float(x) * 0.1f, 3.f, -1.f}, {0.f, 0.f, 1.f}), kExtent);
+  for (int x = 0; x < 64; ++x) following += followsPreviousRay(rayAlong({float(x) * 0.1f, 3.f, -1.f}, {0.f, 0.f, 1.f}), kExtent);
   EXPECT_EQ(following, 63u);
   // The same ray again (as a renderer's second query of a pixel may be) follows itself.
-  EXPECT_TRUE(followsPreviousRay(rayFrom({6.3f, 3.f, -1.f}, {0.f, 0.f, 1.f}), kExtent));
+  EXPECT_TRUE(followsPreviousRay(rayAlong({6.3f, 3.f, -1.f}, {0.f, 0.f, 1.f}), kExtent));
 }
 
 TEST(RayCoherence, IncoherentRaysDoNotFollow) {
@@ -64,27 +56,27 @@ TEST(RayCoherence, IncoherentRaysDoNotFollow) {
   // From one point in random directions (a point light's rays, diffuse bounces).
   size_t following = 0;
   for (int i = 0; i < 4000; ++i)
-    following += followsPreviousRay(rayFrom({5.f, 5.f, 5.f}, {normal(rng), normal(rng), normal(rng)}), kExtent);
+    following += followsPreviousRay(rayAlong({5.f, 5.f, 5.f}, {normal(rng), normal(rng), normal(rng)}), kExtent);
   EXPECT_LE(following, 8u);  // two random directions lie within 2.6 degrees once in ~2000 pairs
   // One direction, origins anywhere in the scene (sun shadow rays from scattered points).
   following = 0;
   for (int i = 0; i < 4000; ++i)
-    following += followsPreviousRay(rayFrom({inScene(rng), inScene(rng), inScene(rng)}, {0.3f, 1.f, 0.2f}), kExtent);
+    following += followsPreviousRay(rayAlong({inScene(rng), inScene(rng), inScene(rng)}, {0.3f, 1.f, 0.2f}), kExtent);
   EXPECT_LE(following, 8u);
   // Opposite directions from one origin, and directions 5 degrees apart.
   forgetPreviousRay();
-  EXPECT_FALSE(followsPreviousRay(rayFrom({1.f, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
-  EXPECT_FALSE(followsPreviousRay(rayFrom({1.f, 1.f, 1.f}, {0.f, 0.f, -1.f}), kExtent));
-  EXPECT_FALSE(followsPreviousRay(rayFrom({1.f, 1.f, 1.f}, {std::sin(0.087f), 0.f, -std::cos(0.087f)}), kExtent));
+  EXPECT_FALSE(followsPreviousRay(rayAlong({1.f, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
+  EXPECT_FALSE(followsPreviousRay(rayAlong({1.f, 1.f, 1.f}, {0.f, 0.f, -1.f}), kExtent));
+  EXPECT_FALSE(followsPreviousRay(rayAlong({1.f, 1.f, 1.f}, {std::sin(0.087f), 0.f, -std::cos(0.087f)}), kExtent));
   // NaN rays follow nothing, nor does the ray after them.
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_FALSE(followsPreviousRay(rayFrom({nan, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
-  EXPECT_FALSE(followsPreviousRay(rayFrom({1.f, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
+  EXPECT_FALSE(followsPreviousRay(rayAlong({nan, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
+  EXPECT_FALSE(followsPreviousRay(rayAlong({1.f, 1.f, 1.f}, {0.f, 0.f, 1.f}), kExtent));
 }
 
 TEST(RayCoherence, EmptySegmentsAreNeitherPredictedNorRecorded) {
   forgetPreviousRay();
-  Ray first = rayFrom({1.f, 2.f, 3.f}, {0.f, 1.f, 0.f});
+  Ray first = rayAlong({1.f, 2.f, 3.f}, {0.f, 1.f, 0.f});
   EXPECT_FALSE(worthPredicting(first, kExtent));
   Ray empty = first;
   empty.org = {9.f, 9.f, 9.f};
@@ -122,14 +114,14 @@ std::vector<Ray> cameraRays(float extent) {
   for (int y = 0; y < 72; ++y)
     for (int x = 0; x < 96; ++x) {
       const float u = (float(x) + 0.5f) / 96.f, v = (float(y) + 0.5f) / 72.f;
-      rays.push_back(rayFrom({u * extent, v * extent, 2.f * extent}, {0.f, 0.f, -1.f}));
+      rays.push_back(rayAlong({u * extent, v * extent, 2.f * extent}, {0.f, 0.f, -1.f}));
     }
   for (int y = 0; y < 72; ++y)
     for (int x = 0; x < 96; ++x) {
       const float u = (float(x) + 0.5f) / 96.f, v = (float(y) + 0.5f) / 72.f;
       const Vec3f target{u * extent, v * extent, 0.f};
       const Vec3f eye{-0.3f * extent, -0.4f * extent, 1.5f * extent};
-      rays.push_back(rayFrom(eye, target - eye));
+      rays.push_back(rayAlong(eye, target - eye));
     }
   return rays;
 }
