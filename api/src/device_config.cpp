@@ -101,6 +101,10 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       config.obbClusters = parseInt(name, value, 0, 1 << 20);
     } else if (name == "obb_palette") {
       config.obbPalette = parseInt(name, value, 0, kMaxPaletteFrames);
+    } else if (name == "obb_packets") {
+      if (value == "on" || value == "default") config.obbPackets = true;
+      else if (value == "off") config.obbPackets = false;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "invalid value '" + value + "' for obb_packets (on, off or default)");
     } else if (name == "obb_cost") {
       config.obbTestCost = float(parseInt(name, value, 1, 100)) / 10.f;
     } else if (name == "intersector") {

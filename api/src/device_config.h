@@ -26,6 +26,7 @@ struct DeviceConfig {
   int obbPalette = -1;  // obb_palette=K (see BuildOptions); -1: kDefaultObbPalette, or 0 with obb_clusters
   int obbWidth = fastestOrientedWidth();  // obb_width=2|4|8: the oriented layouts traced binary, four- or eight-wide
   float obbTestCost = 2.f;
+  bool obbPackets = true;  // obb_packets=off: closest-hit packets through eight-wide oriented trees ray by ray
   float traversalCost = 1.f;     // SAH cost of a node visit (traversal_cost)
   float intersectionCost = 1.f;  // SAH cost of a primitive test (intersection_cost)
   TreeBuilder builder = TreeBuilder::Sah;

@@ -352,6 +352,7 @@ void Scene::rebuild() {
                        : options.obbClusters > 0       ? 0
                                                        : kDefaultObbPalette;
   options.obbWidth = device_->config().obbWidth;
+  options.obbPackets = device_->config().obbPackets;
   options.obbTestCost = device_->config().obbTestCost;
   const auto started = std::chrono::steady_clock::now();
   bool refitted = false;

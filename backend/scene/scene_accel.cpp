@@ -303,7 +303,7 @@ bool sameOptions(const BuildOptions& a, const BuildOptions& b) {
   return a.layout == b.layout && a.intersector == b.intersector && a.childOrder == b.childOrder &&
          a.binCount == b.binCount &&
          a.maxLeafSize == b.maxLeafSize && a.obbSplit == b.obbSplit && a.obbClusters == b.obbClusters && a.obbPalette == b.obbPalette &&
-         a.obbWidth == b.obbWidth &&
+         a.obbWidth == b.obbWidth && a.obbPackets == b.obbPackets &&
          a.quality == b.quality && a.spatialBudget == b.spatialBudget && a.collapse == b.collapse &&
          a.traversalCost == b.traversalCost &&
          a.intersectionCost == b.intersectionCost && a.builder == b.builder && a.kmeansArity == b.kmeansArity &&
@@ -443,6 +443,8 @@ uint32_t SceneAccel::intersectPacket(Ray* rays, Hit* hits, uint32_t active, cons
     found = intersectClosestWidePacket(triangleView4_, rays, hits, active, state);
   } else if (layout_ == AccelLayout::Bvh8 && !triangleView8_.empty()) {
     found = intersectClosestWidePacket(triangleView8_, rays, hits, active, state);
+  } else if (orientedWide() && !triangleOrientedWideView8_.empty() && options_.obbPackets && !state.counters) {
+    found = intersectClosestOrientedWidePacket(triangleOrientedWideView8_, rays, hits, active, state);
   } else if (layout_ != AccelLayout::Bvh4 && layout_ != AccelLayout::Bvh8) {
     for (uint32_t m = active; m; m &= m - 1)
       if (intersect(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], state)) found |= 1u << __builtin_ctz(m);

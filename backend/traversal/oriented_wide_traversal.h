@@ -39,5 +39,9 @@ bool intersectClosestOrientedWide(const TriangleOrientedWideView<8>& view, Ray& 
                                   TraversalCounters* counters = nullptr);
 bool intersectAnyOrientedWide(const TriangleOrientedWideView<8>& view, const Ray& ray, const QueryState& state,
                               TraversalCounters* counters = nullptr);
+// Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set) through the
+// eight-wide kernels: the rays that hit (oriented_wide_packets.h).
+uint32_t intersectClosestOrientedWidePacket(const TriangleOrientedWideView<8>& view, Ray* rays, Hit* hits,
+                                            uint32_t active, const QueryState& state);
 
 }  // namespace obvh

@@ -9,12 +9,14 @@
 #include "traversal/oriented_box_test.h"
 #include "traversal/oriented_wide_traversal.h"
 #include "traversal/triangle_block_leaf.h"
+#include "traversal/wide_traversal.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx2")
 
 #include "simd/double4_avx.h"
 #include "simd/float8_avx.h"
+#include "traversal/oriented_wide_packets.h"
 #include "traversal/oriented_wide_traverse.h"
 
 namespace obvh {
@@ -31,6 +33,11 @@ bool intersectAnyOrientedWide(const TriangleOrientedWideView<8>& view, const Ray
   if (view.bvh->hasPalette)
     return intersectAnyOrientedWideImpl<simd::Float8Avx, simd::Float4Sse, true>(view, ray, state, counters);
   return intersectAnyOrientedWideImpl<simd::Float8Avx, simd::Float4Sse>(view, ray, state, counters);
+}
+
+uint32_t intersectClosestOrientedWidePacket(const TriangleOrientedWideView<8>& view, Ray* rays, Hit* hits,
+                                            uint32_t active, const QueryState& state) {
+  return intersectClosestOrientedWidePacketImpl<simd::Float8Avx, simd::Float4Sse>(view, rays, hits, active, state);
 }
 
 }  // namespace obvh

@@ -160,6 +160,8 @@ TEST_P(PacketLanes, OccludedLanesAnswerAsSingleRays) {
   expectLanesOccludeAsSingleRays<16>(rtcOccluded16);
 }
 
-INSTANTIATE_TEST_SUITE_P(RayMasks, PacketLanes, ::testing::Values("", "ray_mask=off", "accel=bvh4"));
+INSTANTIATE_TEST_SUITE_P(RayMasks, PacketLanes,
+                         ::testing::Values("", "ray_mask=off", "accel=bvh4", "accel=obb,obb_packets=on",
+                                           "accel=hybrid,obb_packets=on,ray_mask=off"));
 
 }  // namespace
