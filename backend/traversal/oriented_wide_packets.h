@@ -136,22 +136,26 @@ struct OrientedPacketRays {
       }
       boundOrgLow[row] = low[0], boundOrgHigh[row] = high[0];
       const FN one = FN::broadcast(1.f);
+      const FN largest = FN::broadcast(std::numeric_limits<float>::max());
+      const auto finite = [&](const FN& x) { return lessEqualMask(x, largest) & lessEqualMask(zero - largest, x); };
       if (commonDirection) {
         // Every ray's inverse direction is the one computed above, exactly.
         alignas(32) float inv[kSlots];
         for (int s = 0; s < kSlots; ++s) inv[s] = slotInv[s][row][first];
         const FN exact = FN::load(inv);
-        const FN largest = FN::broadcast(std::numeric_limits<float>::max());
-        const int infinite = ~(lessEqualMask(exact, largest) & lessEqualMask(zero - largest, exact));
+        const int infinite = ~finite(exact);
         infiniteSlots[row] = select(infinite, zero - one, zero);
         unboundedSlots[row] = zero;
         boundInvLow[row] = boundInvHigh[row] = exact;
       } else {
-        // 1/x is monotone on either side of zero; a range that reaches zero bounds nothing.
-        infiniteSlots[row] = zero;
-        unboundedSlots[row] = select(~(lessMask(zero, low[1]) | lessMask(high[1], zero)), zero - one, zero);
+        // 1/x is monotone on either side of zero; a range that reaches zero bounds nothing, nor
+        // does one whose inverse overflows (a ray on a slab's plane would make the bounds NaN).
         boundInvLow[row] = one / high[1];
         boundInvHigh[row] = one / low[1];
+        const int usable =
+            (lessMask(zero, low[1]) | lessMask(high[1], zero)) & finite(boundInvLow[row]) & finite(boundInvHigh[row]);
+        infiniteSlots[row] = zero;
+        unboundedSlots[row] = select(~usable, zero - one, zero);
       }
     }
     for (int g = 0; g < groups; ++g) {

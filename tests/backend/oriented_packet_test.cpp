@@ -2,8 +2,9 @@
 // answers as the same ray alone does (closest hit: t, u, v, Ng, primID bit for bit; occlusion,
 // which packets trace ray by ray), on stack presets with and without a frame palette, for camera
 // packets (one direction: the cached transform; or a pinhole's spread), packets with holes in
-// their active mask, empty segments, shortened segments, a NaN among coherent rays, and incoherent
-// packets (which go ray by ray). Inactive lanes are left untouched.
+// their active mask, empty segments, shortened segments, a NaN among coherent rays, rays on a
+// bounding plane whose inverse direction overflows, and incoherent packets (which go ray by ray).
+// Inactive lanes are left untouched.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -102,11 +103,11 @@ void expectPacketsAnswerAsRaysAlone(const char* preset, AccelLayout layout, int 
   const auto scene = buildStack(preset, layout, palette);
   const std::vector<Ray> rays = packetRays(scene->bounds);
   const QueryState state;
-  const uint32_t masks[] = {0xFFFFu, 0x00FFu, 0xA5C3u, 0x8001u, 0x0100u, 0xFFFFu};
+  const uint32_t masks[] = {0xFFFFu, 0x00FFu, 0xA5C3u, 0x8001u, 0x0100u, 0xFFFFu, 0xFFFFu};
   const float nan = std::numeric_limits<float>::quiet_NaN();
   size_t hits = 0, occluded = 0;
   for (size_t first = 0; first + kMaxPacketSize <= rays.size(); first += kMaxPacketSize)
-    for (int variant = 0; variant < 6; ++variant) {
+    for (int variant = 0; variant < 7; ++variant) {
       Ray packet[kMaxPacketSize];
       Hit packetHits[kMaxPacketSize];
       for (int r = 0; r < kMaxPacketSize; ++r) {
@@ -116,6 +117,12 @@ void expectPacketsAnswerAsRaysAlone(const char* preset, AccelLayout layout, int 
         if (variant == 3 && r % 4 == 1) packet[r].tnear = 0.25f * (scene->bounds.upper.z - scene->bounds.lower.z);
         if (variant == 5 && r == 3) packet[r].org.y = nan;  // one ray without numbers among coherent ones
         if (variant == 5 && r == 9) packet[r].tfar = nan;
+        if (variant == 6) {
+          // Down the stack's side plane with a denormal sideways component, whose inverse
+          // overflows: each ray is inside the boxes that plane bounds, as if it did not move.
+          packet[r].org.x = scene->bounds.lower.x;
+          packet[r].dir = {1e-40f, 0.01f * float(r % 4 + 1), -1.f};
+        }
         packetHits[r].primID = 0xDEADu;
       }
       const uint32_t active = masks[variant];
