@@ -318,7 +318,7 @@ void walkOrientedPacket(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacketRa
         break;
       }
       const OrientedWideNode<N>& node = bvh.nodes[current];
-      // The entered children in near-to-far order (closest hit) or lane order, as they come.
+      // The entered children, near to far.
       Entry next[N];
       int n = 0;
       for (int candidates = lanes.mayEnter(node); candidates; candidates &= candidates - 1) {
@@ -335,6 +335,9 @@ void walkOrientedPacket(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacketRa
         }
         if (e.rays == 0) continue;
         if (!Codes::isLeaf(e.child)) {
+          // The five cache lines a palette node's test reads: without, mixed-654k's packets traced
+          // 10-15% slower (their nodes' loads are not hidden behind a predicted lane, as a single
+          // ray's are).
           const char* line = reinterpret_cast<const char*>(&bvh.nodes[e.child]);
           for (int l = 0; l < 5; ++l) __builtin_prefetch(line + 64 * l);
         }
@@ -357,7 +360,6 @@ void walkOrientedPacket(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacketRa
     currentRays &= ~lanes.raysEndingBefore(e.t, currentRays);
   }
 }
-
 
 // The rays of `active` worth tracing: a segment that is not empty and meets the tree's bounds.
 template <typename F4, int N>
@@ -399,7 +401,8 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
       found |= 1u << r;
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    if (__builtin_popcount(mask) >= kRaysAsLanesAtLeast && leafTestsRaysAsLanes<FN>(view.set, mask) && f.shear(rays).usable) {
+    if (__builtin_popcount(mask) >= kRaysAsLanesAtLeast && leafTestsRaysAsLanes<FN>(view.set, mask) &&
+        f.shear(rays).usable) {
       found |= intersectBlocksClosestPacket<FN>(view.set, bvh.blocks.data(), firstBlock, blockCount, f.shear(rays),
                                                 f.triangleFrames(rays), rays, hits, mask, state);
       return 0u;
