@@ -8,6 +8,7 @@
 #include <string>
 
 #include "crossval_harness.h"
+#include "stack_generator.h"
 #include "test_scenes.h"
 
 namespace obvh::test {
@@ -32,11 +33,13 @@ SceneData packetScene() {
 struct Fixture {
   SceneData scene;
   const LoadedLibraries& libs = libraries();
+  RTCDevice obvhDevice;  // the default device unless a test brings its own config
   tools::CommittedScene reference{*libs.embree, libs.embreeDevice, scene};
-  tools::CommittedScene candidate{*libs.obvh, libs.obvhDevice, scene};
+  tools::CommittedScene candidate{*libs.obvh, obvhDevice, scene};
   std::vector<RTCRay> rays = mixedRays(scene, kRays / 2, 224, 23);  // 50000 random + 50176 coherent
   RTCIntersectContext context;
-  explicit Fixture(SceneData traced = packetScene()) : scene(std::move(traced)) {
+  explicit Fixture(SceneData traced = packetScene(), RTCDevice device = nullptr)
+      : scene(std::move(traced)), obvhDevice(device ? device : libraries().obvhDevice) {
     rtcInitIntersectContext(&context);
     assignMasks(rays, 24);
   }
@@ -154,6 +157,19 @@ TEST(CrossvalPackets, Intersect4_8_16WithPartialValidMasks) {
 TEST(CrossvalPackets, Occluded4_8_16WithPartialValidMasks) {
   Fixture f;
   runOccludedPacketWidths(f, "");
+}
+
+// Packets through the eight-wide oriented layouts, traced together (obb_packets, on by default)
+// where their rays share direction signs, as the coherent half of the rays do.
+TEST(CrossvalPackets, OrientedLayoutPacketsOnStacks) {
+  for (const char* config : {"accel=obb", "accel=hybrid"}) {
+    const ObvhDevice device(config);
+    ASSERT_NE(device.get(), nullptr);
+    for (const char* name : {"small-1.5k", "mixed-6.9k"}) {
+      Fixture f(tools::generateStack(tools::findStackPreset(name)->params, name).asScene(), device.get());
+      runIntersectPacketWidths(f, std::string(", ") + config + ", " + name);
+    }
+  }
 }
 
 // Valid lanes whose segment is empty (tnear > tfar, as shadow rays behind pixels without a hit are
