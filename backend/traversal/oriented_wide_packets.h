@@ -1,8 +1,8 @@
 // Closest-hit packet traversal of the eight-wide oriented layouts (rtcIntersect4/8/16 and streams
 // with accel=obb|hybrid): the rays of a packet share node loads, one stack and one near-to-far
 // order, while every child-box decision is the single ray's. A child's box is tested
-// against a lane group of rays at once with the single-ray test's operations in the same order
-// (enterChildBoxes: margin, slab rows, far scale, limit), the lanes being rays instead of children;
+// against a lane group of rays at once by the single-ray test itself (enterBoxLanes), the lanes
+// being rays instead of children;
 // each ray's origin and inverse direction in the palette's frames are made once a packet, and for
 // rays of a common direction (an orthographic camera) the direction's transform is made once for
 // all of them. Leaves reached by at least four rays are tested as the wide AABB layouts' packets
@@ -170,7 +170,7 @@ struct OrientedPacketRays {
           const FN a0 = FN::broadcast(bvh.palette.axis[row][0][s]), a1 = FN::broadcast(bvh.palette.axis[row][1][s]),
                    a2 = FN::broadcast(bvh.palette.axis[row][2][s]);
           if (commonDirection) {
-            (a0 * o[0] + a1 * o[1] + a2 * o[2]).store(slotOrg[s][row] + base);
+            alongRow(a0, a1, a2, o).store(slotOrg[s][row] + base);
           } else {
             FN ro, inv;
             rayAlongRow(a0, a1, a2, o, d, ro, inv);
@@ -219,35 +219,31 @@ struct OrientedPacketRays {
   }
 
   // The rays of groupRays (bits of lane group g) entering child c of node, with their entry
-  // distances: enterChildBoxes's operations for child c, lane by lane over the rays.
+  // distances: the single-ray node test for child c, lane by lane over the rays.
   template <int N>
   [[gnu::always_inline]] int enterChild(const OrientedWideNode<N>& node, int c, int g, int groupRays,
                                         FN& nearT) const {
     const int base = g * kLanes;
-    const FN margin = FN::broadcast(node.oriented[c]) * FN::broadcast(2.f * kObbMarginScale) *
-                      (FN::load(originNorm + base) + FN::broadcast(node.magnitude[c]));
-    nearT = FN::load(tnear + base);
-    FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
     const int slot = node.paletteSlot[c];
     const bool fromPalette = usePalette && node.inPalette;
-    for (int row = 0; row < 3; ++row) {
-      FN o, inv;
-      if (fromPalette) {
-        o = FN::load(slotOrg[slot][row] + base);
-        inv = FN::load(slotInv[slot][row] + base);
-      } else {
-        const FN ro[3] = {FN::load(org[0] + base), FN::load(org[1] + base), FN::load(org[2] + base)};
-        const FN rd[3] = {FN::load(dir[0] + base), FN::load(dir[1] + base), FN::load(dir[2] + base)};
-        rayAlongRow(FN::broadcast(node.axis[row][0][c]), FN::broadcast(node.axis[row][1][c]),
-                    FN::broadcast(node.axis[row][2][c]), ro, rd, o, inv);
-      }
-      const SlabInterval<FN> slab = slabInterval(FN::broadcast(node.lower[row][c]) - margin,
-                                                 FN::broadcast(node.upper[row][c]) + margin, o, inv);
-      nearT = max(slab.entry, nearT);
-      farT = min(slab.exit, farT);
-    }
-    farT = min(farT * FN::broadcast(kConservativeFarScale), FN::load(limit + base));
-    return lessEqualMask(nearT, farT) & groupRays;
+    const int entered = enterBoxLanes(
+        FN::broadcast(node.oriented[c]), FN::broadcast(node.magnitude[c]), FN::load(originNorm + base),
+        FN::load(tnear + base), FN::load(limit + base),
+        [&](int row) { return FN::broadcast(node.lower[row][c]); },
+        [&](int row) { return FN::broadcast(node.upper[row][c]); },
+        [&](int row, FN& o, FN& inv) {
+          if (fromPalette) {
+            o = FN::load(slotOrg[slot][row] + base);
+            inv = FN::load(slotInv[slot][row] + base);
+            return;
+          }
+          const FN ro[3] = {FN::load(org[0] + base), FN::load(org[1] + base), FN::load(org[2] + base)};
+          const FN rd[3] = {FN::load(dir[0] + base), FN::load(dir[1] + base), FN::load(dir[2] + base)};
+          rayAlongRow(FN::broadcast(node.axis[row][0][c]), FN::broadcast(node.axis[row][1][c]),
+                      FN::broadcast(node.axis[row][2][c]), ro, rd, o, inv);
+        },
+        nearT);
+    return entered & groupRays;
   }
 
   // The rays of `rays` whose limit lies before t (the single walk would skip an entry at t).

@@ -28,42 +28,57 @@ struct OrientedWideRay {
   }
 };
 
-// One frame row's slab of every child (slabInterval, box_test.h), given the ray's origin and
-// inverse direction along that row in each child's frame, the boxes widened by the margin.
-template <typename FN>
-[[gnu::always_inline]] inline void clipBySlabRow(const OrientedWideNode<FN::kWidth>& node, int row, FN o, FN inv,
-                                                 FN margin, FN& nearT, FN& farT) {
-  const SlabInterval<FN> slab =
-      slabInterval(FN::load(node.lower[row]) - margin, FN::load(node.upper[row]) + margin, o, inv);
-  nearT = max(slab.entry, nearT);
-  farT = min(slab.exit, farT);
-}
-
-// Per child as in OrientedRay::enter: the transformed ray against the box widened by the
-// transform's rounding margin (zero for axis-aligned children, whose identity rows transform
-// exactly). frameRow(row, o, inv) supplies the ray along one row of each child's frame.
-template <typename FN, typename FrameRow>
-[[gnu::always_inline]] inline int enterChildBoxes(const OrientedWideNode<FN::kWidth>& node, FN originNorm, float tnear,
-                                                  float tfar, float entry[FN::kWidth], FrameRow&& frameRow) {
-  const FN margin =
-      FN::load(node.oriented) * FN::broadcast(2.f * kObbMarginScale) * (originNorm + FN::load(node.magnitude));
-  FN nearT = FN::broadcast(tnear), farT = FN::broadcast(std::numeric_limits<float>::infinity());
+// As OrientedRay::enter, lane by lane: the transformed ray against the box widened by the
+// transform's rounding margin (zero for axis-aligned boxes, whose identity rows transform exactly),
+// each row's slab by slabInterval (box_test.h). The lanes are one ray against a node's children
+// (enterChildBoxes) or one child against a packet's rays (oriented_wide_packets.h): both run these
+// operations in this order, so each lane decides as it does in the other form. lowerOf(row) and
+// upperOf(row) supply the boxes' planes, frameRow(row, o, inv) the rays along one row; nearT gets
+// the entry distances; returns the lanes entered within [tnear, tfar].
+template <typename FN, typename LowerOf, typename UpperOf, typename FrameRow>
+[[gnu::always_inline]] inline int enterBoxLanes(FN oriented, FN magnitude, FN originNorm, FN tnear, FN tfar,
+                                                LowerOf&& lowerOf, UpperOf&& upperOf, FrameRow&& frameRow,
+                                                FN& nearT) {
+  const FN margin = oriented * FN::broadcast(2.f * kObbMarginScale) * (originNorm + magnitude);
+  nearT = tnear;
+  FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
   for (int row = 0; row < 3; ++row) {
     FN o, inv;
     frameRow(row, o, inv);
-    clipBySlabRow(node, row, o, inv, margin, nearT, farT);
+    const SlabInterval<FN> slab = slabInterval(lowerOf(row) - margin, upperOf(row) + margin, o, inv);
+    nearT = max(slab.entry, nearT);
+    farT = min(slab.exit, farT);
   }
-  farT = min(farT * FN::broadcast(kConservativeFarScale), FN::broadcast(tfar));
-  nearT.store(entry);
-  return lessEqualMask(nearT, farT) & node.usedMask;
+  farT = min(farT * FN::broadcast(kConservativeFarScale), tfar);
+  return lessEqualMask(nearT, farT);
 }
 
-// The ray along one frame row: a0..a2 the row, one lane a frame. The palette's ray and the
-// per-child transform both take it from here, so both round alike.
+// The node's children the ray enters, with their entry distances. frameRow(row, o, inv) supplies
+// the ray along one row of each child's frame.
+template <typename FN, typename FrameRow>
+[[gnu::always_inline]] inline int enterChildBoxes(const OrientedWideNode<FN::kWidth>& node, FN originNorm, float tnear,
+                                                  float tfar, float entry[FN::kWidth], FrameRow&& frameRow) {
+  FN nearT;
+  const int entered = enterBoxLanes(
+      FN::load(node.oriented), FN::load(node.magnitude), originNorm, FN::broadcast(tnear), FN::broadcast(tfar),
+      [&](int row) { return FN::load(node.lower[row]); }, [&](int row) { return FN::load(node.upper[row]); }, frameRow,
+      nearT);
+  nearT.store(entry);
+  return entered & node.usedMask;
+}
+
+// One frame row of a vector: a0..a2 the row (one lane a frame, or one frame for every lane).
+template <typename FN>
+[[gnu::always_inline]] inline FN alongRow(FN a0, FN a1, FN a2, const FN v[3]) {
+  return a0 * v[0] + a1 * v[1] + a2 * v[2];
+}
+
+// The ray along one frame row. The palette's ray, the per-child transform and the packets'
+// lanes all take it from here, so all round alike.
 template <typename FN>
 [[gnu::always_inline]] inline void rayAlongRow(FN a0, FN a1, FN a2, const FN org[3], const FN dir[3], FN& o, FN& inv) {
-  o = a0 * org[0] + a1 * org[1] + a2 * org[2];
-  inv = FN::broadcast(1.f) / (a0 * dir[0] + a1 * dir[1] + a2 * dir[2]);
+  o = alongRow(a0, a1, a2, org);
+  inv = FN::broadcast(1.f) / alongRow(a0, a1, a2, dir);
 }
 
 // The children the ray enters within [tnear, tfar], with their entry distances: the ray is
