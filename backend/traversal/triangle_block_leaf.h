@@ -203,8 +203,12 @@ template <typename D4>
 
 // A hit on lane `lane` of a block, read from the block's lanes: copying the lane out as a
 // StoredTriangle first kept it alive across the double-precision test, in spilled registers.
-inline Hit makeBlockHit(const TriangleSet& set, const TriangleBlock4& block, int lane, const TriangleHit& th,
-                        uint32_t instID) {
+// Always inlined (with makeTriangleHit): the oriented kernels, whose leaf visitors are inlined into
+// the walk, called the one baseline copy the linker keeps for every accepted hit (a call, its
+// vzeroupper, the Hit returned through memory); inlined, the stack presets' views traced 5-9%
+// faster (drop-in, one thread, three alternations).
+[[gnu::always_inline]] inline Hit makeBlockHit(const TriangleSet& set, const TriangleBlock4& block, int lane,
+                                               const TriangleHit& th, uint32_t instID) {
   return makeTriangleHit(set, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), block.geomID[lane],
                          block.primID[lane], TriangleKind(block.kind[lane]), th, instID);
 }

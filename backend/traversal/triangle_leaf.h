@@ -44,8 +44,10 @@ inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, c
                   : intersectWatertight(wr, ray, tri.v0, tri.v1, tri.v2, th);
 }
 
-inline Hit makeTriangleHit(const TriangleSet& set, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2, uint32_t geomID,
-                           uint32_t primID, TriangleKind kind, const TriangleHit& th, uint32_t instID) {
+// Always inlined: see makeBlockHit (triangle_block_leaf.h).
+[[gnu::always_inline]] inline Hit makeTriangleHit(const TriangleSet& set, const Vec3f& v0, const Vec3f& v1,
+                                                  const Vec3f& v2, uint32_t geomID, uint32_t primID, TriangleKind kind,
+                                                  const TriangleHit& th, uint32_t instID) {
   Hit hit;
   hit.geomID = geomID;
   hit.primID = primID;
