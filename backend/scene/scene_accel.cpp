@@ -12,6 +12,7 @@
 #include "builders/kmeans_builder.h"
 #include "builders/morton_builder.h"
 #include "builders/obb_split_builder.h"
+#include "builders/own_frame_treelets.h"
 #include "builders/spatial_split_builder.h"
 #include "bvh/tree_statistics.h"
 #include "bvh/oriented_layout.h"
@@ -104,6 +105,8 @@ void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOp
   } else {
     triangleBvh_ = buildBinnedSah(collected.refs, triangleOptions);
   }
+  if (oriented && options.obbSplit == ObbSplit::AabbSah)
+    rebuildTreeletsInOwnFrames(triangleBvh_, collected.triangles.data(), triangleOptions);
   reserveWithHugePages(triangles_, triangleBvh_.primIndices.size());
   triangles_.resize(triangleBvh_.primIndices.size());
   tbb::parallel_for(size_t(0), triangles_.size(),
