@@ -6,6 +6,7 @@
 #include <numeric>
 #include <vector>
 
+#include "bvh/binary_node_infos.h"
 #include "obb/obb.h"
 
 namespace obvh {
@@ -165,45 +166,21 @@ bool allAxisAligned(const StoredTriangle* triangles, const uint32_t* prims, uint
   return true;
 }
 
-struct Range {
-  uint32_t begin = 0, end = 0;
-};
-
 }  // namespace
 
 void rebuildTreeletsInOwnFrames(BinaryBvh& bvh, const StoredTriangle* triangles, const BuildOptions& options) {
   if (bvh.empty()) return;
-  // Every node's range of leaf positions (a subtree's leaves are contiguous in the builders' order;
-  // a subtree where they are not is left as it is).
-  std::vector<Range> range(bvh.nodes.size());
-  std::vector<uint32_t> preOrder, stack = {0};
-  while (!stack.empty()) {
-    const uint32_t n = stack.back();
-    stack.pop_back();
-    preOrder.push_back(n);
-    if (!bvh.nodes[n].isLeaf()) stack.insert(stack.end(), {bvh.nodes[n].firstChildOrPrim + 1, bvh.nodes[n].firstChildOrPrim});
-  }
-  std::vector<uint32_t> leafCount(bvh.nodes.size(), 0);
-  for (auto it = preOrder.rbegin(); it != preOrder.rend(); ++it) {
-    const Bvh2Node& node = bvh.nodes[*it];
-    if (node.isLeaf()) {
-      range[*it] = {node.firstChildOrPrim, node.firstChildOrPrim + node.primCount};
-      leafCount[*it] = node.primCount;
-    } else {
-      const Range &l = range[node.firstChildOrPrim], &r = range[node.firstChildOrPrim + 1];
-      range[*it] = {std::min(l.begin, r.begin), std::max(l.end, r.end)};
-      leafCount[*it] = leafCount[node.firstChildOrPrim] + leafCount[node.firstChildOrPrim + 1];
-    }
-  }
+  // A subtree whose leaves are not contiguous in the leaf order (the builders' are) is left as it is.
+  std::vector<uint32_t> preOrder;
+  const std::vector<BinaryNodeInfo> info = binaryNodeInfos(bvh, preOrder);
   // Treelet roots: the highest nodes of at most kMaxTreeletTriangles contiguous triangles.
-  std::vector<uint32_t> roots;
-  stack = {0};
+  std::vector<uint32_t> roots, stack = {0};
   while (!stack.empty()) {
     const uint32_t n = stack.back();
     stack.pop_back();
     const Bvh2Node& node = bvh.nodes[n];
-    const bool contiguous = range[n].end - range[n].begin == leafCount[n];
-    if (leafCount[n] <= kMaxTreeletTriangles && contiguous && leafCount[n] >= 2) {
+    const bool contiguous = info[n].end - info[n].begin == info[n].primCount;
+    if (info[n].primCount <= kMaxTreeletTriangles && contiguous && info[n].primCount >= 2) {
       roots.push_back(n);
       continue;
     }
@@ -211,7 +188,7 @@ void rebuildTreeletsInOwnFrames(BinaryBvh& bvh, const StoredTriangle* triangles,
   }
   std::vector<Treelet> treelets(roots.size());
   tbb::parallel_for(size_t(0), roots.size(), [&](size_t i) {
-    const Range r = range[roots[i]];
+    const BinaryNodeInfo& r = info[roots[i]];
     if (allAxisAligned(triangles, bvh.primIndices.data() + r.begin, r.end - r.begin)) return;
     treelets[i] = TreeletBuilder(triangles, options).build(bvh.primIndices.data() + r.begin, r.end - r.begin);
   });
@@ -230,7 +207,7 @@ void rebuildTreeletsInOwnFrames(BinaryBvh& bvh, const StoredTriangle* triangles,
     const Bvh2Node& node = bvh.nodes[from];
     if (treeletOf[from] >= 0 && !treelets[size_t(treeletOf[from])].nodes.empty()) {
       const Treelet& t = treelets[size_t(treeletOf[from])];
-      const uint32_t base = range[from].begin;
+      const uint32_t base = info[from].begin;
       std::copy(t.order.begin(), t.order.end(), out.primIndices.begin() + base);
       // Treelet node k lands at index map[k] of the new tree.
       std::vector<uint32_t> map(t.nodes.size());

@@ -6,51 +6,14 @@
 #include <cmath>
 #include <limits>
 
+#include "bvh/binary_node_infos.h"
 #include "bvh/frame_clustering.h"
 #include "obb/obb.h"
 
 namespace obvh {
 namespace {
 
-struct NodeInfo {
-  uint32_t begin = 0, end = 0;  // triangle range in leaf order
-  uint32_t parent = 0;
-  int depth = 0;
-};
-
-// Every node's triangle range, parent and depth; preOrder receives the nodes parents first.
-std::vector<NodeInfo> nodeInfos(const BinaryBvh& bvh, std::vector<uint32_t>& preOrder) {
-  std::vector<NodeInfo> info(bvh.nodes.size());
-  // Pre-order: children follow their parent, so one backwards pass fills interior ranges.
-  std::vector<uint32_t> stack = {0};
-  std::vector<uint32_t>& order = preOrder;
-  order.clear();
-  order.reserve(bvh.nodes.size());
-  while (!stack.empty()) {
-    const uint32_t n = stack.back();
-    stack.pop_back();
-    order.push_back(n);
-    const Bvh2Node& node = bvh.nodes[n];
-    if (node.isLeaf()) {
-      info[n].begin = node.firstChildOrPrim;
-      info[n].end = node.firstChildOrPrim + node.primCount;
-      continue;
-    }
-    for (uint32_t c : {node.firstChildOrPrim, node.firstChildOrPrim + 1}) {
-      info[c].parent = n;
-      info[c].depth = info[n].depth + 1;
-      stack.push_back(c);
-    }
-  }
-  for (auto it = order.rbegin(); it != order.rend(); ++it) {
-    const Bvh2Node& node = bvh.nodes[*it];
-    if (node.isLeaf()) continue;
-    const NodeInfo &l = info[node.firstChildOrPrim], &r = info[node.firstChildOrPrim + 1];
-    info[*it].begin = std::min(l.begin, r.begin);
-    info[*it].end = std::max(l.end, r.end);
-  }
-  return info;
-}
+using NodeInfo = BinaryNodeInfo;
 
 std::vector<Vec3f> pointsOf(const StoredTriangle* triangles, uint32_t begin, uint32_t end) {
   std::vector<Vec3f> points;
@@ -120,7 +83,7 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
   if (binary.empty()) return out;
   const size_t n = binary.nodes.size();
   std::vector<uint32_t> preOrder;
-  const std::vector<NodeInfo> info = nodeInfos(binary, preOrder);
+  const std::vector<NodeInfo> info = binaryNodeInfos(binary, preOrder);
   std::vector<Obb> fitted(n);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const std::vector<Vec3f> points = pointsOf(triangles, info[i].begin, info[i].end);
