@@ -89,6 +89,10 @@ DeviceConfig parseDeviceConfig(const std::string& text) {
       else if (value == "midpoint") config.obbSplit = ObbSplit::Midpoint;
       else if (value == "aabb") config.obbSplit = ObbSplit::AabbSah;
       else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown obb_split '" + value + "' (available: sah, median, midpoint, aabb)");
+    } else if (name == "obb_fit") {
+      if (value == "dito14" || value == "default") config.obbFit = ObbFit::Dito14;
+      else if (value == "pca") config.obbFit = ObbFit::Pca;
+      else fail(RTC_ERROR_INVALID_ARGUMENT, "unknown obb_fit '" + value + "' (available: dito14, pca, default)");
     } else if (name == "obb_bins") {
       config.obbBins = parseInt(name, value, 2, 1024);
     } else if (name == "obb_width") {

@@ -22,6 +22,7 @@ struct DeviceConfig {
   int maxLeafSize = 0;  // 0: the layout's and builder's default (defaultMaxLeafSize)
   ObbSplit obbSplit = ObbSplit::AabbSah;  // accel=obb|hybrid only; see BuildOptions
   int obbBins = 32;
+  ObbFit obbFit = ObbFit::Dito14;  // obb_fit=dito14|pca
   int obbClusters = 0;
   int obbPalette = -1;  // obb_palette=K (see BuildOptions); -1: kDefaultObbPalette, or 0 with obb_clusters
   int obbWidth = fastestOrientedWidth();  // obb_width=2|4|8: the oriented layouts traced binary, four- or eight-wide

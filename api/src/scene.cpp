@@ -347,6 +347,7 @@ void Scene::rebuild() {
   options.maxLeafSize = device_->config().maxLeafSize;  // 0: the layout's and builder's default
   options.obbSplit = device_->config().obbSplit;
   options.obbBins = device_->config().obbBins;
+  options.obbFit = device_->config().obbFit;
   options.obbClusters = device_->config().obbClusters;
   options.obbPalette = device_->config().obbPalette >= 0 ? device_->config().obbPalette
                        : options.obbClusters > 0       ? 0

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "math/vec3.h"
+#include "obb/obb.h"
 
 namespace obvh {
 
@@ -67,6 +68,7 @@ struct BuildOptions {
   // Oriented layouts.
   ObbSplit obbSplit = ObbSplit::AabbSah;  // measured best on every slanted stack preset (README)
   int obbBins = 32;
+  ObbFit obbFit = ObbFit::Dito14;  // PCA for comparison (the layout study)
   float obbTestCost = 2.0f;       // cost of one oriented-box test relative to traversalCost (one AABB test)
   int obbClusters = 0;            // k-means clusters of leaf box frames; 0 = every leaf keeps its own
   int obbPalette = 0;             // shared frames every oriented node picks from (1..kMaxPaletteFrames); 0 = own frames

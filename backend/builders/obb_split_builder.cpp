@@ -63,7 +63,7 @@ class ObbFrameBuilder {
       const StoredTriangle& t = triangle(i);
       points.insert(points.end(), {t.v0, t.v1, t.v2});
     }
-    const Obb frame = fitDito14(points.data(), points.size());
+    const Obb frame = fitObb(options_.obbFit, points.data(), points.size());
     // Centroid extent per frame axis decides the axis for midpoint and median splits.
     Box3f centroids;
     for (size_t i = begin; i < end; ++i) centroids.extend(frame.toBoxFrame(centroid(i)));

@@ -88,7 +88,7 @@ class TreeletBuilder {
       points[3 * i] = tri.v0, points[3 * i + 1] = tri.v1, points[3 * i + 2] = tri.v2;
     }
     const Obb all = parentAxes && int(count) <= options_.maxLeafSize ? boxAlong(parentAxes, points, 3 * count)
-                                                                      : fitDito14(points, 3 * count);
+                                                                      : fitObb(options_.obbFit, points, 3 * count);
     const float area = all.halfArea();
     Obb boxes[kMaxTreeletTriangles];
     for (uint32_t i = 0; i < count; ++i) boxes[i] = boxAlong(all.axis, points + 3 * i, 3);

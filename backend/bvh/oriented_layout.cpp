@@ -87,7 +87,7 @@ OrientedBvh makeOrientedLayout(const BinaryBvh& binary, const StoredTriangle* tr
   std::vector<Obb> fitted(n);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const std::vector<Vec3f> points = pointsOf(triangles, info[i].begin, info[i].end);
-    fitted[i] = fitDito14(points.data(), points.size());
+    fitted[i] = fitObb(options.obbFit, points.data(), points.size());
   });
   auto aabbArea = [&](size_t i) { return binary.nodes[i].bounds.halfArea(); };
   std::vector<uint8_t> oriented(n, 0);

@@ -39,6 +39,10 @@ Obb fitDito14(const Vec3f* points, size_t count);
 // Principal axes of the points' covariance (for comparison with DiTO-14).
 Obb fitPca(const Vec3f* points, size_t count);
 
+// How the oriented layouts fit a box to a node's triangles (device config obb_fit).
+enum class ObbFit { Dito14, Pca };
+Obb fitObb(ObbFit method, const Vec3f* points, size_t count);
+
 // Box with the given axes enclosing the points, rounded outwards so that every point is inside.
 Obb fitWithAxes(const Vec3f axes[3], const Vec3f* points, size_t count);
 

@@ -195,4 +195,8 @@ Obb fitPca(const Vec3f* points, size_t count) {
   return fitWithAxes(axes, points, count);
 }
 
+Obb fitObb(ObbFit method, const Vec3f* points, size_t count) {
+  return method == ObbFit::Pca ? fitPca(points, count) : fitDito14(points, count);
+}
+
 }  // namespace obvh

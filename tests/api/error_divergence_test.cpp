@@ -126,7 +126,8 @@ TEST(DeviceConfig, EmbreeTokensAndUnknownNamesAreAccepted) {
                              "traversal_cost=2.5,intersection_cost=0.5", "collapse=greedy", "collapse=sah,accel=bvh4",
                              "collapse=default", "accel=obb,obb_palette=7", "accel=hybrid,obb_palette=1,obb_width=4",
                              "child_order=fixed", "child_order=near_to_far", "child_order=default,accel=bvh4",
-                             "accel=obb,obb_packets=on", "obb_packets=off", "obb_packets=default"}) {
+                             "accel=obb,obb_packets=on", "obb_packets=off", "obb_packets=default",
+                             "accel=obb,obb_fit=pca", "accel=hybrid,obb_fit=dito14", "obb_fit=default"}) {
     RTCDevice device = rtcNewDevice(config);
     EXPECT_NE(device, nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_NONE) << config;
@@ -140,7 +141,8 @@ TEST(DeviceConfig, ValuesObvhCannotHonourAreRejected) {
                              "obb_clusters=-1", "obb_palette=8", "obb_palette=-1", "obb_palette=x", "obb_cost=0", "builder=octree", "kmeans_k=9", "kmeans_k=1",
                              "distance_alpha=1.5", "distance_alpha=x", "distance_source=1:2", "distance_source=1:2:3:4",
                              "distance_source=a:b:c", "traversal_cost=0", "intersection_cost=-1",
-                             "collapse=optimal", "child_order=sorted", "obb_packets=yes"}) {
+                             "collapse=optimal", "child_order=sorted", "obb_packets=yes", "obb_fit=pca2",
+                             "obb_fit="}) {
     EXPECT_EQ(rtcNewDevice(config), nullptr) << config;
     EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT) << config;
   }

@@ -1,5 +1,5 @@
 // The oriented layouts (accel=obb, accel=hybrid, with every split rule, with clustered leaf
-// frames and with frame palettes) against Embree, ray by ray, on every semiconductor-stack preset, the bunny, a closed icosphere (rays at its
+// frames, with frame palettes and with PCA-fitted boxes) against Embree, ray by ray, on every semiconductor-stack preset, the bunny, a closed icosphere (rays at its
 // shared edges and vertices), a triangle soup and non-planar quads.
 #include <gtest/gtest.h>
 
@@ -62,7 +62,7 @@ INSTANTIATE_TEST_SUITE_P(Configs, OrientedLayouts,
                                            "accel=hybrid,obb_clusters=16,obb_bins=8", "accel=obb,intersector=fast",
                                            "accel=obb,obb_width=2", "accel=hybrid,obb_width=2", "accel=obb,obb_width=4",
                                            "accel=obb,obb_palette=0", "accel=hybrid,obb_palette=2",
-                                           "accel=obb,obb_palette=4,obb_width=4"),
+                                           "accel=obb,obb_palette=4,obb_width=4", "accel=hybrid,obb_fit=pca"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;
                            for (char& c : name)
