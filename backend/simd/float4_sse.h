@@ -56,6 +56,11 @@ struct Float4Sse {
     const __m128 nan = _mm_cmpunord_ps(a.v, a.v);
     return {_mm_or_ps(_mm_andnot_ps(nan, a.v), _mm_and_ps(nan, b.v))};
   }
+  // See FloatScalar::selectBySign (SSE2: the kernels that use it are baseline code).
+  friend Float4Sse selectBySign(Float4Sse sign, Float4Sse ifClear, Float4Sse ifSet) {
+    const __m128 set = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(sign.v), 31));
+    return {_mm_or_ps(_mm_andnot_ps(set, ifClear.v), _mm_and_ps(set, ifSet.v))};
+  }
   friend int lessEqualMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v)); }
   friend int lessMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)); }
   friend int signMask(Float4Sse a) { return _mm_movemask_ps(a.v); }

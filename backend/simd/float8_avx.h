@@ -37,6 +37,10 @@ struct Float8Avx {
   OBVH_AVX2 friend Float8Avx replaceNaN(Float8Avx a, Float8Avx b) {
     return {_mm256_blendv_ps(a.v, b.v, _mm256_cmp_ps(a.v, a.v, _CMP_UNORD_Q))};
   }
+  // See FloatScalar::selectBySign.
+  OBVH_AVX2 friend Float8Avx selectBySign(Float8Avx sign, Float8Avx ifClear, Float8Avx ifSet) {
+    return {_mm256_blendv_ps(ifClear.v, ifSet.v, sign.v)};
+  }
   OBVH_AVX2 friend Float8Avx min(Float8Avx a, Float8Avx b) { return {_mm256_min_ps(a.v, b.v)}; }
   OBVH_AVX2 friend Float8Avx max(Float8Avx a, Float8Avx b) { return {_mm256_max_ps(a.v, b.v)}; }
   OBVH_AVX2 friend int lessEqualMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }

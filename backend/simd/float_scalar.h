@@ -79,6 +79,13 @@ struct FloatScalar {
   friend FloatScalar replaceNaN(FloatScalar a, FloatScalar b) {
     return map(a, b, [](float x, float y) { return x != x ? y : x; });
   }
+  // Lane i of ifSet where lane i of sign has its sign bit set (negative numbers, -0, NaNs with the
+  // bit), else of ifClear, as blendvps picks.
+  friend FloatScalar selectBySign(FloatScalar sign, FloatScalar ifClear, FloatScalar ifSet) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = std::signbit(sign.v[i]) ? ifSet.v[i] : ifClear.v[i];
+    return r;
+  }
   // Bit i set when the comparison holds in lane i (false for NaN, like the ordered SSE compares).
   friend int lessEqualMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x <= y; }); }
   friend int lessMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x < y; }); }

@@ -29,8 +29,14 @@ struct OrientedWideRay {
 };
 
 // As OrientedRay::enter, lane by lane: the transformed ray against the box widened by the
-// transform's rounding margin (zero for axis-aligned boxes, whose identity rows transform exactly),
-// each row's slab by slabInterval (box_test.h). The lanes are one ray against a node's children
+// transform's rounding margin (zero for axis-aligned boxes, whose identity rows transform exactly).
+// Each row's slab gives the same entry and exit as slabInterval (box_test.h), computed from the plane
+// the ray meets first and the one it leaves by, picked by the sign of 1/dir (the lower plane first
+// where it is clear): min and max of the two distances, and the NaN replacement, are not needed. A
+// ray that does not move along the row (1/dir infinite) with its origin exactly on a plane gets a
+// NaN distance there, which the accumulating max / min pass over (they return their second operand
+// for a NaN), leaving that side of the slab unbounded as slabInterval's replacement does; a NaN ray
+// passes over every row, as before. The lanes are one ray against a node's children
 // (enterChildBoxes) or one child against a packet's rays (oriented_wide_packets.h): both run these
 // operations in this order, so each lane decides as it does in the other form. lowerOf(row) and
 // upperOf(row) supply the boxes' planes, frameRow(row, o, inv) the rays along one row; nearT gets
@@ -45,9 +51,9 @@ template <typename FN, typename LowerOf, typename UpperOf, typename FrameRow>
   for (int row = 0; row < 3; ++row) {
     FN o, inv;
     frameRow(row, o, inv);
-    const SlabInterval<FN> slab = slabInterval(lowerOf(row) - margin, upperOf(row) + margin, o, inv);
-    nearT = max(slab.entry, nearT);
-    farT = min(slab.exit, farT);
+    const FN lower = lowerOf(row) - margin, upper = upperOf(row) + margin;
+    nearT = max((selectBySign(inv, lower, upper) - o) * inv, nearT);
+    farT = min((selectBySign(inv, upper, lower) - o) * inv, farT);
   }
   farT = min(farT * FN::broadcast(kConservativeFarScale), tfar);
   return lessEqualMask(nearT, farT);

@@ -27,6 +27,10 @@ void sseLoadColumns(const float* rows, size_t stride, float* out) {
 void sseSelect(int mask, const float* a, const float* b, float* out) {
   select(mask, simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b)).storeUnaligned(out);
 }
+void sseSelectBySign(const float* sign, const float* a, const float* b, float* out) {
+  selectBySign(simd::Float4Sse::loadUnaligned(sign), simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b))
+      .storeUnaligned(out);
+}
 
 }  // namespace
 }  // namespace obvh
@@ -47,6 +51,11 @@ void avxLoadColumns(const float* rows, size_t stride, float* out) {
 }
 void avxSelect(int mask, const float* a, const float* b, float* out) {
   _mm256_storeu_ps(out, select(mask, simd::Float8Avx{_mm256_loadu_ps(a)}, simd::Float8Avx{_mm256_loadu_ps(b)}).v);
+}
+void avxSelectBySign(const float* sign, const float* a, const float* b, float* out) {
+  _mm256_storeu_ps(out, selectBySign(simd::Float8Avx{_mm256_loadu_ps(sign)}, simd::Float8Avx{_mm256_loadu_ps(a)},
+                                     simd::Float8Avx{_mm256_loadu_ps(b)})
+                            .v);
 }
 }  // namespace
 }  // namespace obvh
@@ -168,6 +177,33 @@ void expectSelectMatchesReference(void (*simdSelect)(int, const float*, const fl
 TEST(SimdLanes, SelectMatchesTheScalarReference) {
   expectSelectMatchesReference<4>(sseSelect);
   if (simd::cpuHasAvx2()) expectSelectMatchesReference<8>(avxSelect);
+}
+
+// selectBySign picks by the sign bit alone (the oriented node test's entry and exit planes by the
+// sign of 1/dir): -0 and a NaN with its sign bit set pick the second value, +0, +inf and a NaN
+// without it the first.
+template <int N>
+void expectSelectBySignMatchesReference(void (*simdSelectBySign)(const float*, const float*, const float*, float*)) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float signs[8] = {1.f, -1.f, 0.f, -0.f, inf, -inf, nan, -nan};
+  for (int offset = 0; offset < 8; offset += N) {
+    float sign[N], a[N], b[N], simd[N], reference[N];
+    for (int lane = 0; lane < N; ++lane)
+      sign[lane] = signs[offset + lane], a[lane] = float(lane + 1), b[lane] = -float(lane + 1);
+    simdSelectBySign(sign, a, b, simd);
+    selectBySign(simd::FloatScalar<N>::load(sign), simd::FloatScalar<N>::load(a), simd::FloatScalar<N>::load(b))
+        .store(reference);
+    for (int lane = 0; lane < N; ++lane) {
+      const float expected = std::signbit(sign[lane]) ? b[lane] : a[lane];
+      EXPECT_EQ(reference[lane], expected) << "sign " << sign[lane];
+      EXPECT_EQ(simd[lane], expected) << "sign " << sign[lane];
+    }
+  }
+}
+
+TEST(SimdLanes, SelectBySignMatchesTheScalarReference) {
+  expectSelectBySignMatchesReference<4>(sseSelectBySign);
+  if (simd::cpuHasAvx2()) expectSelectBySignMatchesReference<8>(avxSelectBySign);
 }
 
 }  // namespace

@@ -175,6 +175,44 @@ TEST_P(HardCases, ZeroDirectionComponentsWithTheOriginOnABoundingPlane) {
   EXPECT_EQ(rays, 16u);
 }
 
+// The same for flat grids, whose boxes keep the world axes in every layout (no oriented box is
+// smaller than a planar rectangle's): rays along a grid's normal, down its outer border lines, hit
+// its boundary edges, and the boxes they must enter have their bounding planes exactly at the rays'
+// origins, where a zero direction component makes the distance to that plane 0 * inf = NaN. Grids
+// facing each axis, so that the still axis is each row of the box tests in turn (a NaN in the last
+// row is the one no later row can cover up).
+TEST_P(HardCasesWatertight, ZeroDirectionComponentsAlongAFlatGridsBorder) {
+  size_t rays = 0;
+  for (int normal = 0; normal < 3; ++normal) {
+    const MeshData flat = quadGrid(32, 0.f, 1);  // 2,048 triangles in z = 0 over [0,1]^2
+    MeshData grid = flat;
+    const int a = (normal + 1) % 3, b = (normal + 2) % 3;  // the axes the grid spans
+    for (size_t v = 0; v < flat.vertexCount(); ++v) {
+      grid.vertices[3 * v + size_t(normal)] = 0.f;
+      grid.vertices[3 * v + size_t(a)] = flat.vertices[3 * v];
+      grid.vertices[3 * v + size_t(b)] = flat.vertices[3 * v + 1];
+    }
+    const ObvhScene scene = sceneOf({grid});
+    for (int still : {a, b})
+      for (float onBorder : {0.f, 1.f})
+        for (float zero : {0.f, -0.f})
+          for (float across : {0.13f, 0.41f, 0.77f}) {
+            float org[3], dir[3];
+            org[normal] = 2.f, dir[normal] = -1.f;
+            org[a] = org[b] = across;
+            dir[a] = dir[b] = -zero;
+            org[still] = onBorder;
+            dir[still] = zero;
+            const RTCRayHit rh = scene.intersect(makeRay(org, dir));
+            EXPECT_NE(rh.hit.geomID, RTC_INVALID_GEOMETRY_ID) << hex(rh.ray);
+            EXPECT_EQ(rh.ray.tfar, 2.f) << hex(rh.ray);
+            EXPECT_TRUE(scene.occluded(makeRay(org, dir))) << hex(rh.ray);
+            ++rays;
+          }
+  }
+  EXPECT_EQ(rays, 72u);
+}
+
 TEST_P(HardCases, SegmentBoundaries) {
   MeshData tri;
   tri.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0};
