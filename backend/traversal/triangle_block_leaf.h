@@ -50,12 +50,18 @@ struct EdgeVerdict {
   int recheck = 0;
 };
 
+// The three masks come from the lanes' smallest and largest edge function (a sign bit each) and
+// their product, instead of nine compares: where no value is zero or NaN they say what the compares
+// say. A zero (of either sign) makes the product zero, and such lanes are rechecked whatever their
+// signs; so is a lane whose product underflows to zero, which the recheck (the scalar test) answers
+// as the resolve path would. A NaN answers no hit either way: min and max may pass over it or over
+// a neighbour (they return their second operand for a NaN), and a lane they let through to be
+// resolved fails finishWatertightHit's U + V + W != 0.
 template <typename F>
 [[gnu::always_inline]] inline EdgeVerdict judgeEdges(const ShearedEdges<F>& e, int used) {
-  const F zero = F::broadcast(0.f);
-  const int anyZero = equalMask(e.U, zero) | equalMask(e.V, zero) | equalMask(e.W, zero);
-  const int anyNegative = lessMask(e.U, zero) | lessMask(e.V, zero) | lessMask(e.W, zero);
-  const int anyPositive = lessMask(zero, e.U) | lessMask(zero, e.V) | lessMask(zero, e.W);
+  const int anyZero = equalMask(e.U * e.V * e.W, F::broadcast(0.f));
+  const int anyNegative = signMask(min(min(e.U, e.V), e.W));
+  const int anyPositive = ~signMask(max(max(e.U, e.V), e.W));
   EdgeVerdict verdict;
   verdict.recheck = anyZero & used;
   if (verdict.recheck) {
