@@ -181,8 +181,9 @@ template <bool kClosest, bool kCounted, int N, typename Nodes, typename LeafVisi
 // nearly all reach a leaf, and made early its divisions overlap the first node tests instead of
 // delaying the first leaf (small-1.5k and vias-5.6k's views 1-2% faster).
 template <typename FN, typename F4, bool kCounted, typename Nodes>
-[[gnu::always_inline]] inline bool closestThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray, Hit& hit,
-                         const QueryState& state, TraversalCounters* counters) {
+[[gnu::always_inline]] inline bool closestThroughNodes(const Nodes& nodes,
+                                                       const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray,
+                                                       Hit& hit, const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   const WatertightRay watertight = view.set.fast ? WatertightRay() : WatertightRay(ray);
   bool found = false;
