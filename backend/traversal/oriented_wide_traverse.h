@@ -176,16 +176,16 @@ template <bool kClosest, bool kCounted, int N, typename Nodes, typename LeafVisi
 // palette's and the per-child form's): as a call it took them through memory and began with a
 // second prologue; inlined, the stack presets' views traced 3-8% faster (drop-in, one thread, three
 // alternations). The any-hit walk stays a call: inlined, its shadow rays were no faster.
-// The watertight test's set-up (three divisions) is made before the walk, not at the first leaf
-// (WatertightRayOnDemand, as the axis-aligned kernels do): rays that pass the bounds gate here
-// nearly all reach a leaf, and made early its divisions overlap the first node tests instead of
-// delaying the first leaf (small-1.5k and vias-5.6k's views 1-2% faster).
+// The watertight test's set-up (three divisions) is made before the walk (watertightRayFor), not at
+// the first leaf as the axis-aligned kernels do (WatertightRayOnDemand): rays that pass the bounds
+// gate here nearly all reach a leaf, and made early its divisions overlap the first node tests
+// instead of delaying the first leaf (small-1.5k and vias-5.6k's views 1-2% faster).
 template <typename FN, typename F4, bool kCounted, typename Nodes>
 [[gnu::always_inline]] inline bool closestThroughNodes(const Nodes& nodes,
                                                        const TriangleOrientedWideView<FN::kWidth>& view, Ray& ray,
                                                        Hit& hit, const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  const WatertightRay watertight = view.set.fast ? WatertightRay() : WatertightRay(ray);
+  const WatertightRay watertight = watertightRayFor(ray, view.set);
   bool found = false;
   walkOrientedTree<true, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
@@ -199,7 +199,7 @@ template <typename FN, typename F4, bool kCounted, typename Nodes>
 bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWidth>& view, const Ray& ray,
                      const QueryState& state, TraversalCounters* counters) {
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
-  const WatertightRay watertight = view.set.fast ? WatertightRay() : WatertightRay(ray);
+  const WatertightRay watertight = watertightRayFor(ray, view.set);
   bool found = false;
   walkOrientedTree<false, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,

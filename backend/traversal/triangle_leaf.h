@@ -38,6 +38,12 @@ class WatertightRayOnDemand {
   bool prepared_ = false;
 };
 
+// The same constants made at once, for walks whose rays nearly all reach a leaf (the oriented
+// layouts', behind their bounds gate), where the divisions then overlap the first node tests.
+[[gnu::always_inline]] inline WatertightRay watertightRayFor(const Ray& ray, const TriangleSet& set) {
+  return set.fast ? WatertightRay() : WatertightRay(ray);
+}
+
 inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, const Ray& ray,
                               const StoredTriangle& tri, TriangleHit& th) {
   return set.fast ? intersectMoeller(ray, tri.v0, tri.v1, tri.v2, th)
