@@ -48,6 +48,7 @@ QueryDispatch::QueryDispatch(const Scene& scene, RTCIntersectContext& context)
   if (scene.needsCallbacks() || state_.contextFilter) state_.callbacks = this;
   state_.instID = context.instID[0];
   state_.counters = threadTraversalCounters();
+  state_.coherent = declaresCoherentRays(context);
 }
 
 RTCRay QueryDispatch::embreeRay(const Ray& ray, float tfar) const {

@@ -41,6 +41,11 @@ inline Ray backendRay(const RTCRay& r, bool masksOn) {
   return ray;
 }
 
+// Embree's coherence hint (rtcInitIntersectContext leaves it off); see QueryState::coherent.
+inline bool declaresCoherentRays(const RTCIntersectContext& context) {
+  return (context.flags & RTC_INTERSECT_CONTEXT_FLAG_COHERENT) != 0;
+}
+
 // Single rays against a committed scene that is one wide triangle tree with nothing to call back
 // (no filters, user geometry or instances) while nobody counts traversal steps go straight to the
 // kernels, without QueryDispatch's set-up: that set-up, spread over five calls, was about a third
@@ -54,6 +59,7 @@ inline void intersectDirectly(const Scene& scene, const RTCIntersectContext& con
   Hit hit;
   QueryState state;
   state.instID = context.instID[0];
+  state.coherent = declaresCoherentRays(context);
   if (!scene.accel().intersectWideTriangles(ray, hit, state)) return;
   rayhit.ray.tfar = ray.tfar;
   rayhit.hit = embreeHit(hit);
@@ -62,6 +68,7 @@ inline void intersectDirectly(const Scene& scene, const RTCIntersectContext& con
 inline void occludedDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRay& rtcRay) {
   QueryState state;
   state.instID = context.instID[0];
+  state.coherent = declaresCoherentRays(context);
   if (scene.accel().occludedWideTriangles(backendRay(rtcRay, scene.device()->config().rayMasks), state))
     rtcRay.tfar = -std::numeric_limits<float>::infinity();
 }

@@ -11,17 +11,22 @@ namespace obvh {
 // in both).
 template <typename FN, typename F4>
 const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
-  static const WideKernels<FN::kWidth> nearToFar{&intersectClosestWideImpl<FN, F4>, &intersectAnyWideImpl<FN, F4>,
+  static const WideKernels<FN::kWidth> nearToFar{&intersectClosestWideImpl<FN, F4>,
+                                                 &intersectAnyWideImpl<FN, F4>,
                                                  &intersectClosestWidePacketImpl<FN, F4>,
                                                  &intersectAnyWidePacketImpl<FN, F4>,
                                                  &intersectClosestWideImpl<FN, F4, true>,
-                                                 &intersectAnyWideImpl<FN, F4, true>};
+                                                 &intersectAnyWideImpl<FN, F4, true>,
+                                                 &intersectClosestWideImpl<FN, F4, false, true, true>,
+                                                 &intersectAnyWideImpl<FN, F4, false, true>};
   static const WideKernels<FN::kWidth> laneOrder{&intersectClosestWideImpl<FN, F4, false, false>,
                                                  &intersectAnyWideImpl<FN, F4>,
                                                  &intersectClosestWidePacketImpl<FN, F4>,
                                                  &intersectAnyWidePacketImpl<FN, F4>,
                                                  &intersectClosestWideImpl<FN, F4, true, false>,
-                                                 &intersectAnyWideImpl<FN, F4, true>};
+                                                 &intersectAnyWideImpl<FN, F4, true>,
+                                                 &intersectClosestWideImpl<FN, F4, false, false, true>,
+                                                 &intersectAnyWideImpl<FN, F4, false, true>};
   return order == ChildOrder::NearToFar ? nearToFar : laneOrder;
 }
 

@@ -46,6 +46,10 @@ struct WideKernels {
   // closest and any, adding their box tests and leaf visits to *state.counters (must be set).
   bool (*closestCounted)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
   bool (*anyCounted)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
+  // closest and any for rays the application declared coherent (QueryState::coherent): the same
+  // answers, from a walk that lets the branch predictor guess the next child (wide_walk.h).
+  bool (*closestCoherent)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
+  bool (*anyCoherent)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
 };
 
 // Defined in wide_traversal_<isa>.cpp, each compiled for its instruction set.
@@ -67,11 +71,13 @@ TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set,
           bvh.rootNodeBox().largestSide()};
 }
 
-// Both count into state.counters when it is set. Without an isa, the view's kernels run.
+// Both count into state.counters when it is set, and take the coherent walk when state.coherent
+// is. Without an isa, the view's kernels run.
 template <int N>
 bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state,
                           const WideKernels<N>& k) {
-  return state.counters ? k.closestCounted(bvh, ray, hit, state) : k.closest(bvh, ray, hit, state);
+  if (state.counters) return k.closestCounted(bvh, ray, hit, state);
+  return state.coherent ? k.closestCoherent(bvh, ray, hit, state) : k.closest(bvh, ray, hit, state);
 }
 template <int N>
 bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
@@ -84,7 +90,8 @@ bool intersectClosestWide(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, co
 
 template <int N>
 bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state, const WideKernels<N>& k) {
-  return state.counters ? k.anyCounted(bvh, ray, state) : k.any(bvh, ray, state);
+  if (state.counters) return k.anyCounted(bvh, ray, state);
+  return state.coherent ? k.anyCoherent(bvh, ray, state) : k.any(bvh, ray, state);
 }
 template <int N>
 bool intersectAnyWide(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state) {

@@ -220,20 +220,21 @@ struct AxisAlignedWideNodes {
 };
 
 // Visits the leaves the ray enters from node start (a packet hands a ray over to it mid-tree);
-// see walkWideTree.
-template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>
+// see walkWideTree (kPredictLanes: for rays the application declared coherent, QueryState).
+template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
+          typename LeafVisitor>
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
   switch (nodeTestFormOf(frame)) {
     case NodeTestForm::kBits:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
           AxisAlignedWideNodes<FN, NodeTestForm::kBits>{bvh, frame}, start, ray, leafVisitor, counters);
     case NodeTestForm::kBitsZeroAxes:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
           AxisAlignedWideNodes<FN, NodeTestForm::kBitsZeroAxes>{bvh, frame}, start, ray, leafVisitor, counters);
     case NodeTestForm::kFloat:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted>(
+      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
           AxisAlignedWideNodes<FN, NodeTestForm::kFloat>{bvh, frame}, start, ray, leafVisitor, counters);
   }
 }
@@ -241,7 +242,8 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
 // Always inlined into the kernel that calls it: as a call of its own (GCC kept it out of line) it
 // took a second prologue, and the leaf visitor's captures went through a closure in memory; miss
 // rays, which spend their time in such fixed costs, traced 8% faster inlined (bunny primary rays).
-template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, typename LeafVisitor>
+template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
+          typename LeafVisitor>
 [[gnu::always_inline]] inline void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray,
                                                 LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
   using Node = WideNode<FN::kWidth>;
@@ -254,15 +256,17 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
   // An empty segment enters nothing (the walk's first test), known before the frame's set-up: the
   // benchmark's shadow rays from primary rays that missed are such rays (tfar < tnear).
   if (ray.tnear > ray.tfar) return;
-  traverseWideFrom<FN, kClosest, kCounted, kSorted>(bvh, bvh.root, WideRayFrame<FN>(ray), ray, leafVisitor, counters);
+  traverseWideFrom<FN, kClosest, kCounted, kSorted, kPredictLanes>(bvh, bvh.root, WideRayFrame<FN>(ray), ray,
+                                                                   leafVisitor, counters);
 }
 
-// kSorted: children near to far, else in lane order (ChildOrder).
-template <typename FN, typename F4, bool kCounted = false, bool kSorted = true>
+// kSorted: children near to far, else in lane order (ChildOrder). kPredictLanes: the walk for rays
+// the application declared coherent (QueryState::coherent).
+template <typename FN, typename F4, bool kCounted = false, bool kSorted = true, bool kPredictLanes = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
   WatertightRayOnDemand watertight;
   bool found = false;
-  traverseWide<FN, true, kCounted, kSorted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, true, kCounted, kSorted, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
                                                                watertight.of(ray, bvh.set), ray, hit, state);
     return false;
@@ -270,11 +274,11 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
   return found;
 }
 
-template <typename FN, typename F4, bool kCounted = false>
+template <typename FN, typename F4, bool kCounted = false, bool kPredictLanes = false>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
   WatertightRayOnDemand watertight;
   bool found = false;
-  traverseWide<FN, false, kCounted>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
+  traverseWide<FN, false, kCounted, false, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
                                                           watertight.of(ray, bvh.set), ray, state);
     return found;

@@ -141,30 +141,34 @@ std::vector<Ray> testRays(uint32_t seed, size_t count) {
 }
 
 // Every kernel of width N (scalar, and SIMD where the CPU has it) answers the ray exactly as the
-// binary tree does; returns whether the binary tree found a hit.
+// binary tree does, and so does its walk for rays declared coherent; returns whether the binary
+// tree found a hit.
 template <int N>
 bool expectKernelsAnswerLikeTheBinaryTree(const Layouts<N>& l, const Ray& ray) {
-  const QueryState state;
   std::vector<KernelIsa> kernels = {KernelIsa::Scalar};
   if (bestKernelIsa(N) == KernelIsa::Simd) kernels.push_back(KernelIsa::Simd);
   Ray r2 = ray;
   Hit h2;
-  const bool f2 = intersectClosest(l.view2, r2, h2, state);
-  const bool any2 = intersectAny(l.view2, ray, state);
-  for (KernelIsa isa : kernels) {
-    EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2);
-    // Closest hits in either child order (device config child_order).
-    for (ChildOrder order : {ChildOrder::NearToFar, ChildOrder::Fixed}) {
-      Ray r = ray;
-      Hit h;
-      EXPECT_EQ(intersectClosestWide(l.view, r, h, state, wideKernels<N>(isa, order)), f2)
-          << "width " << N << " isa " << int(isa) << " order " << int(order);
-      if (!f2) continue;
-      EXPECT_EQ(r.tfar, r2.tfar);
-      EXPECT_EQ(h.primID, h2.primID) << "order " << int(order);
-      EXPECT_EQ(h.u, h2.u);
-      EXPECT_EQ(h.v, h2.v);
-      EXPECT_EQ(h.Ng.x, h2.Ng.x);
+  const bool f2 = intersectClosest(l.view2, r2, h2, QueryState());
+  const bool any2 = intersectAny(l.view2, ray, QueryState());
+  for (const bool coherent : {false, true}) {
+    QueryState state;
+    state.coherent = coherent;
+    for (KernelIsa isa : kernels) {
+      EXPECT_EQ(intersectAnyWide(l.view, ray, state, isa), any2) << "isa " << int(isa) << " coherent " << coherent;
+      // Closest hits in either child order (device config child_order).
+      for (ChildOrder order : {ChildOrder::NearToFar, ChildOrder::Fixed}) {
+        Ray r = ray;
+        Hit h;
+        EXPECT_EQ(intersectClosestWide(l.view, r, h, state, wideKernels<N>(isa, order)), f2)
+            << "width " << N << " isa " << int(isa) << " order " << int(order) << " coherent " << coherent;
+        if (!f2) continue;
+        EXPECT_EQ(r.tfar, r2.tfar);
+        EXPECT_EQ(h.primID, h2.primID) << "order " << int(order) << " coherent " << coherent;
+        EXPECT_EQ(h.u, h2.u);
+        EXPECT_EQ(h.v, h2.v);
+        EXPECT_EQ(h.Ng.x, h2.Ng.x);
+      }
     }
   }
   return f2;

@@ -57,10 +57,12 @@ std::string CrossvalCounts::summary() const {
 
 namespace {
 
-std::vector<RTCRayHit> trace(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays) {
+std::vector<RTCRayHit> trace(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays,
+                             RTCIntersectContextFlags contextFlags) {
   std::vector<RTCRayHit> out(rays.size());
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  context.flags = contextFlags;
   for (size_t i = 0; i < rays.size(); ++i) {
     out[i].ray = rays[i];
     out[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -72,10 +74,11 @@ std::vector<RTCRayHit> trace(const RtcLibrary& lib, RTCScene scene, const std::v
 }  // namespace
 
 CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedScene& reference,
-                                const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays) {
+                                const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays,
+                                RTCIntersectContextFlags contextFlags) {
   const LoadedLibraries& libs = libraries();
-  const std::vector<RTCRayHit> a = trace(*libs.embree, reference.scene(), rays);
-  const std::vector<RTCRayHit> b = trace(*libs.obvh, candidate.scene(), rays);
+  const std::vector<RTCRayHit> a = trace(*libs.embree, reference.scene(), rays, contextFlags);
+  const std::vector<RTCRayHit> b = trace(*libs.obvh, candidate.scene(), rays, contextFlags);
   CrossvalCounts counts;
   for (size_t i = 0; i < rays.size(); ++i)
     counts.add(tools::compareHits(scene, rays[i], tools::toHitRecord(a[i]), tools::toHitRecord(b[i])), rays[i]);
@@ -124,10 +127,12 @@ void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOcclud
 }
 
 CrossvalCounts compareCommittedOcclusion(const SceneData& scene, const tools::CommittedScene& reference,
-                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays) {
+                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays,
+                                         RTCIntersectContextFlags contextFlags) {
   const LoadedLibraries& libs = libraries();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  context.flags = contextFlags;
   CrossvalCounts counts;
   for (const RTCRay& ray : rays) {
     RTCRay a = ray, b = ray;

@@ -49,12 +49,15 @@ struct CrossvalCounts {
 // Commits scene to both libraries, traces rays with rtcIntersect1 through each and compares.
 CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCRay>& rays,
                                   RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);
-// Traces rays with rtcIntersect1 through two already committed scenes and compares every answer.
+// Traces rays with rtcIntersect1 through two already committed scenes and compares every answer;
+// both libraries get an intersect context with contextFlags.
 CrossvalCounts compareCommitted(const SceneData& scene, const tools::CommittedScene& reference,
-                                const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays);
+                                const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays,
+                                RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 // rtcOccluded1 through two committed scenes; a differing answer is judged in double precision.
 CrossvalCounts compareCommittedOcclusion(const SceneData& scene, const tools::CommittedScene& reference,
-                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays);
+                                         const tools::CommittedScene& candidate, const std::vector<RTCRay>& rays,
+                                         RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 // The same for rtcOccluded1; a differing answer is judged by a brute-force double-precision test.
 CrossvalCounts crossvalOccluded1(const SceneData& scene, const std::vector<RTCRay>& rays,
                                  RTCSceneFlags flags = RTC_SCENE_FLAG_NONE);

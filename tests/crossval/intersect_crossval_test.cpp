@@ -108,6 +108,30 @@ INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
                                            "accel=bvh8,collapse=greedy", "accel=bvh4,collapse=greedy",
                                            "accel=bvh8,child_order=fixed", "accel=bvh4,child_order=fixed"));
 
+// Rays the application declares coherent (RTC_INTERSECT_CONTEXT_FLAG_COHERENT) take obvh's
+// predicted walk on the axis-aligned wide layouts; the answers must not change: camera-like grids,
+// random rays and rays through shared edges, closest and any hit, four and eight wide.
+TEST(CrossvalIntersect, CoherentContextMatchesEmbree) {
+  const LoadedLibraries& libs = libraries();
+  const float center[3] = {0.f, 0.f, 0.f};
+  SceneData scene = single("icosphere+soup", icosphere(4, 1.f, center));
+  scene.meshes.push_back(randomTriangleSoup(10000, 31));
+  std::vector<RTCRay> rays = mixedRays(scene, kRandomRays / 2, kGridSide, 32);
+  const std::vector<RTCRay> edges = raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 33);
+  rays.insert(rays.end(), edges.begin(), edges.end());
+  tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
+  for (const char* config : {"accel=bvh8", "accel=bvh4", "accel=bvh8,child_order=fixed"}) {
+    const ObvhDevice device(config);
+    ASSERT_NE(device.get(), nullptr);
+    tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
+    const std::string name = std::string(config) + " coherent";
+    expectNoMismatch(name.c_str(),
+                     compareCommitted(scene, reference, candidate, rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT));
+    expectNoMismatch((name + " occlusion").c_str(),
+                     compareCommittedOcclusion(scene, reference, candidate, rays, RTC_INTERSECT_CONTEXT_FLAG_COHERENT));
+  }
+}
+
 // Every build quality, both libraries at the same level: HIGH is obvh's spatial-split builder
 // (triangles referenced from several leaves), on long slanted lines where it splits the most.
 // Axis-aligned blocks with vias (many coplanar faces) plus a random soup.
