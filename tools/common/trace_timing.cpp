@@ -23,7 +23,8 @@ std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
 // Runs query(context, item) over all items on all cores `runs` times; returns the median Mrays/s
 // (raysPerItem rays in each item).
 template <typename Item, typename Query>
-double timedRuns(std::vector<Item> items, int runs, std::vector<Item>* answers, Query query, size_t rayCount) {
+double timedRuns(std::vector<Item> items, int runs, std::vector<Item>* answers, Query query, size_t rayCount,
+                 RTCIntersectContextFlags contextFlags) {
   std::vector<double> rates;
   for (int r = 0; r < runs; ++r) {
     std::vector<Item> work = items;
@@ -31,6 +32,7 @@ double timedRuns(std::vector<Item> items, int runs, std::vector<Item>* answers, 
       tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
+        context.flags = contextFlags;
         for (size_t i = b.begin(); i < b.end(); ++i) query(&context, &work[i]);
       });
     });
@@ -91,37 +93,42 @@ double median(std::vector<double> v) {
 }
 
 double traceIntersectMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                           std::vector<RTCRayHit>* answers) {
+                           std::vector<RTCRayHit>* answers,
+                           RTCIntersectContextFlags contextFlags) {
   return timedRuns(
       asRayHits(rays), runs, answers,
-      [&](RTCIntersectContext* context, RTCRayHit* rayhit) { lib.rtcIntersect1(scene, context, rayhit); }, rays.size());
+      [&](RTCIntersectContext* context, RTCRayHit* rayhit) { lib.rtcIntersect1(scene, context, rayhit); }, rays.size(),
+      contextFlags);
 }
 
 double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                          std::vector<RTCRay>* answers) {
+                          std::vector<RTCRay>* answers,
+                          RTCIntersectContextFlags contextFlags) {
   return timedRuns(
       rays, runs, answers, [&](RTCIntersectContext* context, RTCRay* ray) { lib.rtcOccluded1(scene, context, ray); },
-      rays.size());
+      rays.size(), contextFlags);
 }
 
 double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                            std::vector<RTCRayHit>* answers) {
+                            std::vector<RTCRayHit>* answers,
+                            RTCIntersectContextFlags contextFlags) {
   std::vector<Packet8> first;
   const double rate = timedRuns(
       packets8(rays), runs, answers ? &first : nullptr,
       [&](RTCIntersectContext* context, Packet8* p) { lib.rtcIntersect8(p->valid, scene, context, &p->rayhit); },
-      rays.size());
+      rays.size(), contextFlags);
   if (answers) unpack8(first, rays.size(), *answers);
   return rate;
 }
 
 double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                           std::vector<RTCRay>* answers) {
+                           std::vector<RTCRay>* answers,
+                           RTCIntersectContextFlags contextFlags) {
   std::vector<Packet8> first;
   const double rate = timedRuns(
       packets8(rays), runs, answers ? &first : nullptr,
       [&](RTCIntersectContext* context, Packet8* p) { lib.rtcOccluded8(p->valid, scene, context, &p->rayhit.ray); },
-      rays.size());
+      rays.size(), contextFlags);
   if (answers) unpack8(first, rays.size(), *answers);
   return rate;
 }

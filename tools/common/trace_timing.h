@@ -20,18 +20,23 @@ double millisecondsOf(F&& f) {
 }
 
 // rtcIntersect1 over every ray, `runs` times; returns the median Mrays/s. When answers is given it
-// receives the first run's hit records.
+// receives the first run's hit records. Every intersect context gets contextFlags (Embree's
+// coherence hint: RTC_INTERSECT_CONTEXT_FLAG_COHERENT for camera rays and shadow rays to one light).
 double traceIntersectMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                           std::vector<RTCRayHit>* answers = nullptr);
+                           std::vector<RTCRayHit>* answers = nullptr,
+                           RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 
 // rtcOccluded1 over every ray; answers get the rays as the first run left them (tfar = -inf: occluded).
 double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                          std::vector<RTCRay>* answers = nullptr);
+                          std::vector<RTCRay>* answers = nullptr,
+                          RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 
 // The same through eight-ray packets (rtcIntersect8 / rtcOccluded8) of consecutive rays.
 double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                            std::vector<RTCRayHit>* answers = nullptr);
+                            std::vector<RTCRayHit>* answers = nullptr,
+                            RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
-                           std::vector<RTCRay>* answers = nullptr);
+                           std::vector<RTCRay>* answers = nullptr,
+                           RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 
 }  // namespace obvh::tools
