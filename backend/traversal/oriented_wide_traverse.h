@@ -154,15 +154,15 @@ struct PaletteWideNodes {
   }
 };
 
-// The walk for one ray: with kPredictLanes when the ray follows the thread's previous one
-// (ray_coherence.h); the counted walks (metrics, heatmaps) visit the same nodes either way and keep
-// the plain form.
+// The walk for one ray: with kPredictLanes when the application declared its rays coherent
+// (QueryState::coherent) or the ray follows the thread's previous one (ray_coherence.h); the
+// counted walks (metrics, heatmaps) visit the same nodes either way and keep the plain form.
 template <bool kClosest, bool kCounted, int N, typename Nodes, typename LeafVisitor>
 [[gnu::always_inline]] inline void walkOrientedTree(const Nodes& nodes, const TriangleOrientedWideView<N>& view,
-                                                    const Ray& ray, LeafVisitor&& leafVisitor,
+                                                    const Ray& ray, bool declaredCoherent, LeafVisitor&& leafVisitor,
                                                     TraversalCounters* counters) {
   if constexpr (!kCounted) {
-    if (worthPredicting(ray, view.extent))
+    if (declaredCoherent || worthPredicting(ray, view.extent))
       return walkWideTree<N, kClosest, false, kClosest, true>(nodes, view.bvh->rootChild, ray, leafVisitor, counters);
   }
   walkWideTree<N, kClosest, kCounted>(nodes, view.bvh->rootChild, ray, leafVisitor, counters);
@@ -187,7 +187,7 @@ template <typename FN, typename F4, bool kCounted, typename Nodes>
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   const WatertightRay watertight = watertightRayFor(ray, view.set);
   bool found = false;
-  walkOrientedTree<true, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
+  walkOrientedTree<true, kCounted>(nodes, view, ray, state.coherent, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                                watertight, ray, hit, state);
     return false;
@@ -201,7 +201,7 @@ bool anyThroughNodes(const Nodes& nodes, const TriangleOrientedWideView<FN::kWid
   const OrientedWideBvh<FN::kWidth>& bvh = *view.bvh;
   const WatertightRay watertight = watertightRayFor(ray, view.set);
   bool found = false;
-  walkOrientedTree<false, kCounted>(nodes, view, ray, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
+  walkOrientedTree<false, kCounted>(nodes, view, ray, state.coherent, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
                                                           watertight, ray, state);
     return found;

@@ -34,9 +34,10 @@ struct QueryState {
   // inside instances. Null on the normal query path.
   TraversalCounters* counters = nullptr;
   // The application declared the query's rays coherent (Embree's RTC_INTERSECT_CONTEXT_FLAG_COHERENT:
-  // camera rays of neighbouring pixels, shadow rays to one light). The axis-aligned wide layouts'
-  // single rays then let the branch predictor guess each next child (wide_walk.h, kPredictLanes),
-  // which such rays repay and incoherent ones pay for; the answers are the same either way.
+  // camera rays of neighbouring pixels, shadow rays to one light). The wide layouts' single rays
+  // then let the branch predictor guess each next child (wide_walk.h, kPredictLanes; the oriented
+  // layouts without first checking the thread's previous ray), which such rays repay and
+  // incoherent ones pay for; the answers are the same either way.
   bool coherent = false;
 };
 

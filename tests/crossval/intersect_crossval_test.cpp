@@ -109,8 +109,9 @@ INSTANTIATE_TEST_SUITE_P(Layouts, CrossvalAabbLayouts,
                                            "accel=bvh8,child_order=fixed", "accel=bvh4,child_order=fixed"));
 
 // Rays the application declares coherent (RTC_INTERSECT_CONTEXT_FLAG_COHERENT) take obvh's
-// predicted walk on the axis-aligned wide layouts; the answers must not change: camera-like grids,
-// random rays and rays through shared edges, closest and any hit, four and eight wide.
+// predicted walk on the wide layouts (the oriented ones without their check of the previous ray);
+// the answers must not change: camera-like grids, random rays and rays through shared edges,
+// closest and any hit, four and eight wide, axis-aligned and oriented.
 TEST(CrossvalIntersect, CoherentContextMatchesEmbree) {
   const LoadedLibraries& libs = libraries();
   const float center[3] = {0.f, 0.f, 0.f};
@@ -120,7 +121,7 @@ TEST(CrossvalIntersect, CoherentContextMatchesEmbree) {
   const std::vector<RTCRay> edges = raysThroughEdgesAndVertices(scene.meshes[0], kRandomRays / 2, 33);
   rays.insert(rays.end(), edges.begin(), edges.end());
   tools::CommittedScene reference(*libs.embree, libs.embreeDevice, scene);
-  for (const char* config : {"accel=bvh8", "accel=bvh4", "accel=bvh8,child_order=fixed"}) {
+  for (const char* config : {"accel=bvh8", "accel=bvh4", "accel=bvh8,child_order=fixed", "accel=obb"}) {
     const ObvhDevice device(config);
     ASSERT_NE(device.get(), nullptr);
     tools::CommittedScene candidate(*libs.obvh, device.get(), scene);
