@@ -56,10 +56,11 @@ Integrator::Integrator(const tools::RtcLibrary& lib, const CommittedRenderScene&
   environment_ = pose.lights.empty() ? (plan.pathTracing ? 1.f : 0.05f) : 0.02f;
 }
 
-bool Integrator::intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays) const {
+bool Integrator::intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays, bool cameraRay) const {
   rayhit = makeRayHit(org, dir, 0.f, tfar);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  if (cameraRay) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   const RTCRayHit query = rayhit;
   lib_.rtcIntersect1(committed_.handle(), &context, &rayhit);
   ++rays;
@@ -134,7 +135,8 @@ Vec3 Integrator::shadeDirect(Vec3 org, Vec3 dir, uint64_t& rays) const {
   float through = 1.f;
   for (int layer = 0; layer < settings_.maxLayers; ++layer) {
     RTCRayHit r;
-    if (!intersect(org, dir, kInfinity, r, rays)) return result + Vec3(environment_) * through;
+    // Every layer continues the camera ray in its direction.
+    if (!intersect(org, dir, kInfinity, r, rays, true)) return result + Vec3(environment_) * through;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     const float alpha = plan_.transparency ? effectiveAlpha(s) : 1.f;
     if (alpha > 0.f) {
@@ -161,7 +163,7 @@ Vec3 Integrator::tracePath(Vec3 org, Vec3 dir, Sampler& sampler, float wavelengt
   Vec3 result{0.f}, throughput{1.f};
   for (int depth = 0; depth < settings_.maxDepth; ++depth) {
     RTCRayHit r;
-    if (!intersect(org, dir, kInfinity, r, rays)) return result + throughput * environment_;
+    if (!intersect(org, dir, kInfinity, r, rays, depth == 0)) return result + throughput * environment_;
     const Surface s = surfaceAt(scene_, pose_, committed_.locate(r.hit), r);
     if (plan_.transparency && sampler.next1D() >= effectiveAlpha(s)) {
       org = offsetOrigin(s.position, -s.geometricNormal);

@@ -51,8 +51,10 @@ class Integrator {
   void recordQueries(std::vector<LoggedQuery>* log) { log_ = log; }
 
  private:
-  // One rtcIntersect1 / rtcOccluded1 over (0, tfar], counted and logged.
-  bool intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays) const;
+  // One rtcIntersect1 / rtcOccluded1 over (0, tfar], counted and logged. cameraRay: the query
+  // carries Embree's coherence hint (RTC_INTERSECT_CONTEXT_FLAG_COHERENT), as camera rays of
+  // neighbouring pixels are; bounces keep the default (incoherent) context.
+  bool intersect(Vec3 org, Vec3 dir, float tfar, RTCRayHit& rayhit, uint64_t& rays, bool cameraRay = false) const;
   bool occluded(Vec3 org, Vec3 dir, float tfar, uint64_t& rays) const;
   // Fraction of light arriving along the segment (1 free, 0 blocked); partial through alpha layers.
   float transmittance(Vec3 org, Vec3 dir, float distance, uint64_t& rays) const;
