@@ -400,7 +400,7 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
     if (__builtin_popcount(mask) >= kRaysAsLanesAtLeast && leafTestsRaysAsLanes<FN>(view.set, mask) &&
         f.shear(rays).usable) {
       found |= intersectBlocksClosestPacket<FN>(view.set, bvh.blocks.data(), firstBlock, blockCount, f.shear(rays),
-                                                f.triangleFrames(rays), rays, hits, mask, state);
+                                                f.frameOf(rays), rays, hits, mask, state);
       return 0u;
     }
     for (; mask; mask &= mask - 1) blocksAlone(firstBlock, blockCount, __builtin_ctz(mask));

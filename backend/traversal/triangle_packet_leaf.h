@@ -8,6 +8,7 @@
 // inside the per-ISA target regions, see wide_traversal_avx2.cpp.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "traversal/triangle_block_leaf.h"
@@ -26,21 +27,55 @@ struct PacketShear {
   int groups = 0;
   bool usable = false;  // every ray of the packet has the same axis order
 
-  // frames[r] must be made for every ray r in live.
-  PacketShear(const WatertightRay* frames, uint32_t live) {
+  // The watertight frame's axis order and shear (WatertightRay) for every ray of live at once, the
+  // same operations lane by lane (a division is exact, so each lane's Sx and Sy are the floats the
+  // ray's own frame holds): made ray by ray and then copied into lanes, the frames were a tenth of a
+  // coherent rtcIntersect8 packet's instructions. rays must hold the whole lane group of every ray
+  // of live (kMaxPacketSize entries do); idle lanes may be uninitialized. Always inlined: compiled
+  // for the caller's instruction set (a test instantiating it outside a target region otherwise
+  // gets a baseline copy of the eight-wide version, which the linker may keep for everyone).
+  [[gnu::always_inline]] PacketShear(const Ray* rays, uint32_t live) {
     if (live == 0) return;
-    const WatertightRay& first = frames[__builtin_ctz(live)];
-    for (uint32_t m = live; m; m &= m - 1) {
-      const WatertightRay& f = frames[__builtin_ctz(m)];
-      if (f.kx != first.kx || f.ky != first.ky || f.kz != first.kz) return;
+    static_assert(offsetof(Ray, org) == 0 && offsetof(Ray, dir) == 4 * sizeof(float) &&
+                      sizeof(Ray) % sizeof(float) == 0,
+                  "a ray's first eight floats are org, tnear, dir (and time)");
+    const int groupCount = (31 - __builtin_clz(live)) / kLanes + 1;
+    const FR zero = FR::broadcast(0.f);
+    FR leading[kMaxPacketSize / kLanes][8];  // org x, y, z, tnear, dir x, y, z, time of each group
+    int dominant = -1, negative = -1;
+    for (int g = 0; g < groupCount; ++g) {
+      const int on = int((live >> (g * kLanes)) & ((1u << kLanes) - 1));
+      for (int c = 0; c < 8; c += kLanes)
+        FR::loadColumns(reinterpret_cast<const float*>(rays + g * kLanes) + c, sizeof(Ray) / sizeof(float),
+                        leading[g] + c);
+      if (on == 0) continue;
+      const FR* dir = leading[g] + 4;
+      // |dir| as WatertightRay's fabs: the larger of d and 0 - d (a NaN stays a NaN, -0 becomes +0).
+      const FR ax = max(dir[0], zero - dir[0]), ay = max(dir[1], zero - dir[1]), az = max(dir[2], zero - dir[2]);
+      // kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2), lane by lane.
+      const int xDominates = lessEqualMask(ay, ax) & lessEqualMask(az, ax);
+      const int yOverZ = lessEqualMask(az, ay);
+      const int byAxis[3] = {xDominates, ~xDominates & yOverZ, ~xDominates & ~yOverZ};
+      int kz = 0;
+      while (kz < 2 && (byAxis[kz] & on) == 0) ++kz;
+      if ((byAxis[kz] & on) != on || (dominant >= 0 && kz != dominant)) return;
+      dominant = kz;
+      const int below = lessMask(dir[kz], zero) & on;
+      if ((below != 0 && below != on) || (negative >= 0 && int(below != 0) != negative)) return;
+      negative = below != 0;
     }
-    axes[0] = first.kx, axes[1] = first.ky, axes[2] = first.kz;
-    groups = (31 - __builtin_clz(live)) / kLanes + 1;
-    for (int r = 0; r < groups * kLanes; ++r) {
-      const bool on = (live >> r) & 1;
-      for (int a = 0; a < 3; ++a) org[a][r] = on ? frames[r].org[axes[a]] : 0.f;
-      Sx[r] = on ? frames[r].Sx : 0.f;
-      Sy[r] = on ? frames[r].Sy : 0.f;
+    const int kz = dominant, kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+    axes[0] = negative ? ky : kx, axes[1] = negative ? kx : ky, axes[2] = kz;
+    groups = groupCount;
+    for (int g = 0; g < groupCount; ++g) {
+      const int on = int((live >> (g * kLanes)) & ((1u << kLanes) - 1));
+      const FR* dir = leading[g] + 4;
+      const int base = g * kLanes;
+      for (int a = 0; a < 3; ++a) select(on, leading[g][axes[a]], zero).store(org[a] + base);
+      // Idle lanes divide 0 by 1.
+      const FR divisor = select(on, dir[kz], FR::broadcast(1.f));
+      (select(on, dir[axes[0]], zero) / divisor).store(Sx + base);
+      (select(on, dir[axes[1]], zero) / divisor).store(Sy + base);
     }
     usable = true;
   }
@@ -48,11 +83,12 @@ struct PacketShear {
 
 // Visits, for each triangle of the blocks in order and each ray of `rays` whose edge functions
 // pass, the ray's candidate: visit(r, triangle, hit) returns true when ray r is done (any-hit), and
-// it is then left out of the remaining triangles. Returns the rays that were done.
-template <typename FR, typename Visit>
+// it is then left out of the remaining triangles. Returns the rays that were done. frameOf(r) gives
+// ray r's watertight frame (made when first asked for: only candidates need it).
+template <typename FR, typename FrameOf, typename Visit>
 [[gnu::always_inline]] inline uint32_t visitPacketHits(const TriangleSet& set, const TriangleBlock4* blocks,
                                                        uint32_t firstBlock, uint32_t blockCount,
-                                                       const PacketShear<FR>& shear, const WatertightRay* frames,
+                                                       const PacketShear<FR>& shear, FrameOf&& frameOf,
                                                        const Ray* rays, uint32_t active, Visit&& visit) {
   constexpr int kLanes = FR::kWidth;
   constexpr uint32_t kGroupBits = (1u << kLanes) - 1;
@@ -85,8 +121,8 @@ template <typename FR, typename Visit>
           if ((triangleMask & rays[r].mask) == 0) continue;
           TriangleHit th;
           const bool hit = (verdict.recheck >> lane) & 1
-                               ? intersectWatertight(frames[r], rays[r], tri.v0, tri.v1, tri.v2, th)
-                               : resolveWatertightHit(frames[r], rays[r], tri.v0, tri.v1, tri.v2, U[lane], V[lane],
+                               ? intersectWatertight(frameOf(r), rays[r], tri.v0, tri.v1, tri.v2, th)
+                               : resolveWatertightHit(frameOf(r), rays[r], tri.v0, tri.v1, tri.v2, U[lane], V[lane],
                                                       W[lane], th);
           if (hit && visit(r, tri, th)) done |= 1u << r;
         }
@@ -97,13 +133,13 @@ template <typename FR, typename Visit>
 }
 
 // Closest hits of the packet's rays in `active`; shrinks their tfar. Returns the rays that hit.
-template <typename FR>
+template <typename FR, typename FrameOf>
 inline uint32_t intersectBlocksClosestPacket(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                              uint32_t blockCount, const PacketShear<FR>& shear,
-                                             const WatertightRay* frames, Ray* rays, Hit* hits, uint32_t active,
+                                             FrameOf&& frameOf, Ray* rays, Hit* hits, uint32_t active,
                                              const QueryState& state) {
   uint32_t found = 0;
-  visitPacketHits<FR>(set, blocks, firstBlock, blockCount, shear, frames, rays, active,
+  visitPacketHits<FR>(set, blocks, firstBlock, blockCount, shear, frameOf, rays, active,
                       [&](int r, const StoredTriangle& tri, const TriangleHit& th) {
                         const Hit candidate = makeTriangleHit(set, tri, th, state.instID);
                         if (needsFilter(set.intersectFiltered, tri.geomID, state) &&
@@ -118,12 +154,12 @@ inline uint32_t intersectBlocksClosestPacket(const TriangleSet& set, const Trian
 }
 
 // The rays of `active` that a triangle of the blocks occludes (and the filters accept).
-template <typename FR>
+template <typename FR, typename FrameOf>
 inline uint32_t intersectBlocksAnyPacket(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                          uint32_t blockCount, const PacketShear<FR>& shear,
-                                         const WatertightRay* frames, const Ray* rays, uint32_t active,
+                                         FrameOf&& frameOf, const Ray* rays, uint32_t active,
                                          const QueryState& state) {
-  return visitPacketHits<FR>(set, blocks, firstBlock, blockCount, shear, frames, rays, active,
+  return visitPacketHits<FR>(set, blocks, firstBlock, blockCount, shear, frameOf, rays, active,
                              [&](int r, const StoredTriangle& tri, const TriangleHit& th) {
                                return !needsFilter(set.occlusionFiltered, tri.geomID, state) ||
                                       state.callbacks->acceptHit(set.owner, rays[r],

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <optional>
+#include <new>
 
 #include "memory/uninitialized_array.h"
 #include "traversal/triangle_packet_leaf.h"
@@ -318,21 +318,24 @@ struct PacketFrames {
     }
     return watertight_[r];
   }
-  // Every live ray's triangle-test frame, and the rays as SIMD lanes of the triangle test when
-  // they share its axis order (else shear().usable is false).
-  const WatertightRay* triangleFrames(const Ray* rays) {
-    for (uint32_t m = live & ~prepared_; m; m &= m - 1) triangleFrame(rays, __builtin_ctz(m));
-    return watertight_.data();
+  // Ray r's frame on request, for the packet leaf's candidates (visitPacketHits).
+  auto frameOf(const Ray* rays) {
+    return [this, rays](int r) -> const WatertightRay& { return triangleFrame(rays, r); };
   }
+  // The live rays as SIMD lanes of the triangle test when they share its axis order (else
+  // shear().usable is false).
   const PacketShear<FN>& shear(const Ray* rays) {
-    if (!shear_) shear_.emplace(triangleFrames(rays), live);
-    return *shear_;
+    // Constructed here, not through std::optional: the constructor is always inlined and the
+    // standard library's code is outside the kernels' target regions.
+    if (!shearMade_) new (shear_.data()) PacketShear<FN>(rays, live), shearMade_ = true;
+    return shear_[0];
   }
 
  private:
   UninitializedArray<WatertightRay, kMaxPacketSize> watertight_;
   uint32_t prepared_ = 0;
-  std::optional<PacketShear<FN>> shear_;
+  UninitializedArray<PacketShear<FN>, 1> shear_;
+  bool shearMade_ = false;
 };
 
 // A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least a quarter of
@@ -362,7 +365,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
       found |= intersectBlocksClosestPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
-                                                f.triangleFrames(rays), rays, hits, mask, state);
+                                                f.frameOf(rays), rays, hits, mask, state);
       return 0u;
     }
     for (; mask; mask &= mask - 1) {
@@ -400,7 +403,7 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     uint32_t finished = 0;
     if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
       finished = intersectBlocksAnyPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
-                                              f.triangleFrames(rays), rays, mask, state);
+                                              f.frameOf(rays), rays, mask, state);
     } else {
       for (; mask; mask &= mask - 1) {
         const int r = __builtin_ctz(mask);
