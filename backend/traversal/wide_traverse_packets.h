@@ -296,9 +296,11 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
 
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
 // the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
-// at the root; the triangle test's constants are made at the packet's first leaf. A ray that goes
-// on alone makes its box-test frame where it does, as a local the compiler keeps in registers: made
-// for every ray up front and kept in an array, packets traced 2-6% slower (paired probe).
+// at the root; the triangle test's lanes (shear) are made at the packet's first leaf, and a ray's
+// own triangle-test frame when one of its candidates, or a leaf it tests alone, needs it. A ray
+// that goes on alone makes its box-test frame where it does, as a local the compiler keeps in
+// registers: made for every ray up front and kept in an array, packets traced 2-6% slower (paired
+// probe).
 template <typename FN>
 struct PacketFrames {
   uint32_t live = 0;
