@@ -85,38 +85,16 @@ struct BlockCandidates {
   alignas(16) float U[4], V[4], W[4];
 };
 
-// The hit distance of a point of a triangle is the same convex combination of its vertices'
-// distances along the ray's dominant axis kz (in the sheared frame, Sz * (v[kz] - org[kz])) as the
-// point is of the vertices. Lanes whose vertices all lie beyond tfar, or all before tnear, cannot
-// hit, and are dropped before the double-precision second half, which would compute their
-// distance only to reject it (the far side of a closed mesh, met after its near side). The slack,
-// 2^-12 of the largest vertex distance, covers the rounding of these distances and a lane that
-// passes its edge functions from just outside its triangle, each a few float ulps of it.
 template <typename F4>
-[[gnu::always_inline]] inline int lanesWithinSegment(const F4 vertex[3][3], const F4 org[3], float Sz, float tnear,
-                                                     float tfar) {
-  const F4 sz = F4::broadcast(Sz);
-  F4 nearest = (vertex[0][2] - org[2]) * sz, farthest = nearest;
-  for (int k = 1; k < 3; ++k) {
-    const F4 distance = (vertex[k][2] - org[2]) * sz;
-    nearest = min(nearest, distance);
-    farthest = max(farthest, distance);
-  }
-  const F4 slack = max(farthest, F4::broadcast(0.f) - nearest) * F4::broadcast(1.f / 4096.f);
-  return ~(lessMask(F4::broadcast(tfar), nearest - slack) | lessMask(farthest + slack, F4::broadcast(tnear)));
-}
-
-template <typename F4>
-[[gnu::always_inline]] inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block, const WatertightRay& wr,
-                                                                        float tnear, float tfar) {
+[[gnu::always_inline]] inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block,
+                                                                        const WatertightRay& wr) {
   const F4 org[3] = {F4::broadcast(wr.org[wr.kx]), F4::broadcast(wr.org[wr.ky]), F4::broadcast(wr.org[wr.kz])};
   const int axes[3] = {wr.kx, wr.ky, wr.kz};
   F4 vertex[3][3];
   for (int k = 0; k < 3; ++k)
     for (int a = 0; a < 3; ++a) vertex[k][a] = F4::load(block.v[k][axes[a]]);
   const ShearedEdges<F4> e = shearedEdges(vertex, org, F4::broadcast(wr.Sx), F4::broadcast(wr.Sy));
-  const EdgeVerdict verdict =
-      judgeEdges(e, block.usedLanes() & lanesWithinSegment(vertex, org, wr.Sz, tnear, tfar));
+  const EdgeVerdict verdict = judgeEdges(e, block.usedLanes());
   BlockCandidates c;
   c.resolve = verdict.resolve;
   c.recheck = verdict.recheck;
@@ -236,7 +214,7 @@ template <typename F4, typename D4, typename Visit>
     }
     return false;
   }
-  const BlockCandidates c = watertightBlockCandidates<F4>(block, wr, ray.tnear, ray.tfar);
+  const BlockCandidates c = watertightBlockCandidates<F4>(block, wr);
   BlockPlaneHits plane;
   if (c.resolve) plane = blockPlaneHits<D4>(block, ray);
   int lanes = c.resolve | c.recheck;

@@ -1,6 +1,6 @@
-// The leaf blocks' test against the scalar watertight test, where the block test decides something
-// the scalar one does not: the distance cull (lanesWithinSegment) that drops lanes before the
-// double-precision second half, and that second half computed for four lanes at once.
+// The leaf blocks' test against the scalar watertight test, where the block test computes something
+// its own way: the segment ends checked against the double-precision second half computed for four
+// lanes at once.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -85,10 +85,10 @@ Vec3f randomUnit(std::mt19937& rng) {
 
 // Rays aimed at vertices, edges and interiors of triangles near and far from the origin, small and
 // large, seen from near and far; the segment ends exactly at the scalar test's hit distance and
-// one float before it. A lane may be culled only where the scalar test has no hit in the segment:
-// with the hit at the nearest vertex, that vertex's rounded distance can exceed t, which is what
-// the cull's slack is for (without it, this test fails).
-TEST(TriangleBlockLeaf, DistanceCullKeepsEveryHitInTheSegment) {
+// one float before it: the block test hits exactly where the scalar test does, at the same t. (It
+// caught the distance cull that once dropped lanes before the second half when the cull had no
+// slack for a hit at the nearest vertex, whose rounded distance can exceed t.)
+TEST(TriangleBlockLeaf, SegmentEndsAnswerLikeTheScalarTest) {
   std::mt19937 rng(2026);
   std::uniform_real_distribution<float> unit(0.f, 1.f);
   const float offsets[] = {0.f, 1e3f, 1e5f, 1e6f};
