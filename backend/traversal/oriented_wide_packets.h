@@ -389,7 +389,7 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
   if (view.empty()) return 0;
   const uint32_t live = raysPassingGate<F4>(view, rays, active);
   if (live == 0) return 0;
-  PacketFrames<FN> f(rays, live);
+  PacketFrames<FN> f(live);
   uint32_t found = 0;
   const auto blocksAlone = [&](uint32_t firstBlock, uint32_t blockCount, int r) {
     if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,

@@ -181,6 +181,9 @@ struct PacketLanes {
     return ending & rays;
   }
 
+  // The smallest tnear of the packet's rays (made with the lanes, of a usable packet).
+  float smallestTnear() const { return tnearLow; }
+
   void refreshTfar(const Ray* rays, uint32_t changed) {
     for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
     refreshTfarHigh();
@@ -239,8 +242,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   };
   Entry stack[(N - 1) * 128];
   int top = 0;
-  float tnearMin = std::numeric_limits<float>::infinity();
-  for (uint32_t m = active; m; m &= m - 1) tnearMin = std::min(tnearMin, rays[__builtin_ctz(m)].tnear);
+  const float tnearMin = lanes.smallestTnear();
   // Drops the rays that finished, and those whose segment ends before every ray's entry (only
   // closest-hit rays' segments shrink).
   const auto raysStillIn = [&](const Entry& e) {
@@ -295,8 +297,10 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
 }
 
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
-// the unused lanes of a shadow packet often are) drop out before any set-up, as a single ray would
-// at the root; the triangle test's lanes (shear) are made at the packet's first leaf, and a ray's
+// the unused lanes of a shadow packet often are) have already been dropped where the packet was
+// gathered (QueryDispatch's gatherLiveLanes; one that got here would enter no box, only cost
+// time): checking them again, ray by ray, was about 100 instructions a packet of eight. The
+// triangle test's lanes (shear) are made at the packet's first leaf, and a ray's
 // own triangle-test frame when one of its candidates, or a leaf it tests alone, needs it. A ray
 // that goes on alone makes its box-test frame where it does, as a local the compiler keeps in
 // registers: made for every ray up front and kept in an array, packets traced 2-6% slower (paired
@@ -305,17 +309,13 @@ template <typename FN>
 struct PacketFrames {
   uint32_t live = 0;
 
-  PacketFrames(const Ray* rays, uint32_t active) {
-    for (; active; active &= active - 1) {
-      const int r = __builtin_ctz(active);
-      if (!(rays[r].tnear > rays[r].tfar)) live |= 1u << r;
-    }
-  }
+  explicit PacketFrames(uint32_t active) : live(active) {}
 
-  // Ray r's triangle-test frame, made when first asked for.
+  // Ray r's triangle-test frame, made when first asked for: from the packet's shear lanes once a
+  // usable shear exists (the same floats), else from the ray.
   const WatertightRay& triangleFrame(const Ray* rays, int r) {
     if (!((prepared_ >> r) & 1)) {
-      watertight_[r] = WatertightRay(rays[r]);
+      watertight_[r] = shearMade_ && shear_[0].usable ? shear_[0].frame(rays[r], r) : WatertightRay(rays[r]);
       prepared_ |= 1u << r;
     }
     return watertight_[r];
@@ -353,7 +353,7 @@ bool leafTestsRaysAsLanes(const TriangleSet& set, uint32_t rays) {
 template <typename FN, typename F4>
 uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
                                         uint32_t active, const QueryState& state) {
-  PacketFrames<FN> f(rays, active);
+  PacketFrames<FN> f(active);
   uint32_t found = 0;
   const auto closestAlone = [&](uint32_t start, int r) {
     const WideRayFrame<FN> frame(rays[r]);
@@ -389,7 +389,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
 template <typename FN, typename F4>
 uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
                                     const QueryState& state) {
-  PacketFrames<FN> f(rays, active);
+  PacketFrames<FN> f(active);
   uint32_t occluded = 0;
   const auto anyAlone = [&](uint32_t start, int r) {
     bool found = false;

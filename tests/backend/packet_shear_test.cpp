@@ -21,6 +21,7 @@ struct ShearLanes {
   bool usable = false;
   int axes[3] = {0, 1, 2};
   float org[3][kMaxPacketSize] = {}, Sx[kMaxPacketSize] = {}, Sy[kMaxPacketSize] = {};
+  WatertightRay frames[kMaxPacketSize];  // PacketShear::frame of each live ray
 };
 
 // Always inlined, so that each ISA's shear is compiled for that ISA (see avxShear).
@@ -34,6 +35,7 @@ template <typename FR>
   std::memcpy(s.org, shear.org, sizeof s.org);
   std::memcpy(s.Sx, shear.Sx, sizeof s.Sx);
   std::memcpy(s.Sy, shear.Sy, sizeof s.Sy);
+  for (uint32_t m = live; m; m &= m - 1) s.frames[__builtin_ctz(m)] = shear.frame(rays[__builtin_ctz(m)], __builtin_ctz(m));
   return s;
 }
 
@@ -114,6 +116,13 @@ void expectShearOfEveryRay(const char* isa, ShearLanes (*make)(const Ray*, uint3
                                              << " vs " << f.Sx;
       EXPECT_TRUE(sameFloat(s.Sy[r], f.Sy)) << isa << " packet " << packet << " ray " << r << ": " << s.Sy[r]
                                              << " vs " << f.Sy;
+      // The frame made from the lanes is the ray's own, field for field.
+      const WatertightRay& w = s.frames[r];
+      EXPECT_TRUE(w.kx == f.kx && w.ky == f.ky && w.kz == f.kz) << isa << " packet " << packet << " ray " << r;
+      EXPECT_TRUE(sameFloat(w.Sx, f.Sx) && sameFloat(w.Sy, f.Sy) && sameFloat(w.Sz, f.Sz))
+          << isa << " packet " << packet << " ray " << r << ": Sz " << w.Sz << " vs " << f.Sz;
+      for (int a = 0; a < 3; ++a)
+        EXPECT_TRUE(sameFloat(w.org[a], f.org[a])) << isa << " packet " << packet << " ray " << r;
     }
   }
   // Both outcomes are exercised.
