@@ -119,9 +119,9 @@ struct PacketLanes {
   // multiplication, min, max), so the bounds are bounds of the values each ray computes, not only
   // of exact ones: nearLow <= every ray's entry distance and farHigh >= every ray's exit distance,
   // and a child with nearLow > farHigh is entered by none. An unused child (NaN bounds) gets a NaN
-  // nearLow and fails, as in the per-ray test.
+  // nearLow and fails, as in the per-ray test. nearBound gets nearLow.
   template <int N>
-  int mayEnter(const WideNode<N>& node) const {
+  int mayEnter(const WideNode<N>& node, float nearBound[N]) const {
     static_assert(N == kLanes, "one lane per child");
     FN nearLow = FN::broadcast(tnearLow);
     FN farHigh = FN::broadcast(std::numeric_limits<float>::infinity());
@@ -132,17 +132,20 @@ struct PacketLanes {
       farHigh = min(farHigh, max(df * invBounds[axis][0], df * invBounds[axis][1]));
     }
     farHigh = min(bitsPlus(farHigh, kConservativeFarUlps), FN::broadcast(tfarHigh));
+    nearLow.store(nearBound);
     return lessEqualMask(nearLow, farHigh);
   }
 
   // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
-  // child c, childEntry[c] their smallest entry distance (when kOrdered: any-hit queries neither
-  // order children nor cull them by distance, their rays' tfar never shrinks); returns the mask of
-  // entered children.
-  template <bool kOrdered, int N>
+  // child c, childEntry[c] (aligned for FN) a lower bound of their entry distances, the packet
+  // bounds' (mayEnter); returns the mask of entered children. A bound is all the walk needs: it
+  // orders the children and, at a pop, drops the rays whose segment ends before it, which a
+  // smaller bound does less often but never wrongly. The rays' own smallest entry, a reduction per
+  // entered child and lane group, took about 5% of a coherent packet's instructions.
+  template <int N>
   int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
     int entered = 0;
-    const int candidateChildren = mayEnter(node);
+    const int candidateChildren = mayEnter(node, childEntry);
     if (candidateChildren == 0) return 0;
     for (int g = 0; g < groups; ++g) {
       const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
@@ -163,7 +166,6 @@ struct PacketLanes {
             minOfBits(bitsPlus(minOfBits(minOfBits(exitT[0], exitT[1]), exitT[2]), kConservativeFarUlps), tfarLanes);
         const uint32_t in = uint32_t(bitsLessEqualMask(nearT, farT)) & groupRays;
         if (in == 0) continue;
-        if constexpr (kOrdered) childEntry[c] = std::min(childEntry[c], minOfLanes(nearT, int(in)));
         childRays[c] |= in << base;
         entered |= 1 << c;
       }
@@ -267,9 +269,8 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
       }
       const Node& node = bvh.nodes[current];
       uint32_t childRays[N] = {};
-      float childEntry[N];
-      for (int c = 0; c < N; ++c) childEntry[c] = std::numeric_limits<float>::infinity();
-      int entered = lanes.template intersectNode<kNearToFar>(node, currentRays, childRays, childEntry);
+      alignas(32) float childEntry[N];
+      int entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
       if (entered == 0) break;
       Entry hits[N];
       int n = 0;
