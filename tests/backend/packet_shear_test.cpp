@@ -35,7 +35,10 @@ template <typename FR>
   std::memcpy(s.org, shear.org, sizeof s.org);
   std::memcpy(s.Sx, shear.Sx, sizeof s.Sx);
   std::memcpy(s.Sy, shear.Sy, sizeof s.Sy);
-  for (uint32_t m = live; m; m &= m - 1) s.frames[__builtin_ctz(m)] = shear.frame(rays[__builtin_ctz(m)], __builtin_ctz(m));
+  for (uint32_t m = live; m; m &= m - 1) {
+    const int r = __builtin_ctz(m);
+    s.frames[r] = shear.frame(rays[r], r);
+  }
   return s;
 }
 
