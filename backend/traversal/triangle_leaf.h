@@ -7,6 +7,7 @@
 #include "intersect/triangle.h"
 #include "intersect/moeller_triangle.h"
 #include "intersect/watertight_triangle.h"
+#include "memory/uninitialized_array.h"
 #include "traversal/query_callbacks.h"
 
 namespace obvh {
@@ -26,15 +27,18 @@ struct TriangleSet {
 // The watertight test's per-ray constants (three divisions), computed when the ray first reaches a
 // leaf: rays that miss every leaf never pay for them, and the fast mode's Moeller-Trumbore test
 // needs none.
+// The frame's storage starts uninitialized: its default member initializers were six stores at
+// the start of every ray, most of which (misses) never make the frame. The fast intersector never
+// reads it.
 class WatertightRayOnDemand {
  public:
   [[gnu::always_inline]] const WatertightRay& of(const Ray& ray, const TriangleSet& set) {
-    if (!prepared_ && !set.fast) ray_ = WatertightRay(ray), prepared_ = true;
-    return ray_;
+    if (!prepared_ && !set.fast) ray_[0] = WatertightRay(ray), prepared_ = true;
+    return ray_[0];
   }
 
  private:
-  WatertightRay ray_;
+  UninitializedArray<WatertightRay, 1> ray_;
   bool prepared_ = false;
 };
 
