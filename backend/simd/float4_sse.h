@@ -85,10 +85,6 @@ struct Float4Sse {
     const __m128 pairs = _mm_min_ps(x, _mm_movehl_ps(x, x));
     return _mm_cvtss_f32(_mm_min_ss(pairs, _mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 1, 1, 1))));
   }
-  // See FloatScalar::minOfLanesOfEach.
-  friend void minOfLanesOfEach(const Float4Sse* v, int count, float* out) {
-    for (int i = 0; i < count; ++i) out[i] = minOfLanes(v[i], 15);
-  }
 };
 
 }  // namespace obvh::simd

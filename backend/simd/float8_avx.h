@@ -101,25 +101,6 @@ struct Float8Avx {
     const __m128 pairs = _mm_min_ps(halves, _mm_movehl_ps(halves, halves));
     return _mm_cvtss_f32(_mm_min_ss(pairs, _mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 1, 1, 1))));
   }
-  // See FloatScalar::minOfLanesOfEach. Eight vectors at a time through a transposing tree (21
-  // instructions where eight reductions one by one took about 56): halves, then pairs of lanes
-  // within the halves, then the last pair; vectors past count are +inf.
-  OBVH_AVX2 friend void minOfLanesOfEach(const Float8Avx* v, int count, float* out) {
-    for (int first = 0; first < count; first += 8) {
-      __m256 x[8];
-      for (int i = 0; i < 8; ++i) x[i] = first + i < count ? v[first + i].v : _mm256_set1_ps(__builtin_inff());
-      __m256 a[4];  // a[i]: vector i's halves' minimum in the low half, vector i + 4's in the high
-      for (int i = 0; i < 4; ++i)
-        a[i] = _mm256_min_ps(_mm256_permute2f128_ps(x[i], x[i + 4], 0x20), _mm256_permute2f128_ps(x[i], x[i + 4], 0x31));
-      const __m256 b0 = _mm256_min_ps(_mm256_unpacklo_ps(a[0], a[1]), _mm256_unpackhi_ps(a[0], a[1]));
-      const __m256 b1 = _mm256_min_ps(_mm256_unpacklo_ps(a[2], a[3]), _mm256_unpackhi_ps(a[2], a[3]));
-      const __m256 c = _mm256_min_ps(_mm256_shuffle_ps(b0, b1, _MM_SHUFFLE(1, 0, 1, 0)),
-                                     _mm256_shuffle_ps(b0, b1, _MM_SHUFFLE(3, 2, 3, 2)));
-      alignas(32) float lanes[8];
-      _mm256_store_ps(lanes, c);
-      for (int i = 0; i < 8 && first + i < count; ++i) out[first + i] = lanes[i];
-    }
-  }
 };
 
 }  // namespace obvh::simd

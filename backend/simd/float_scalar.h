@@ -137,11 +137,6 @@ struct FloatScalar {
       if ((mask >> i) & 1) m = a.v[i] < m ? a.v[i] : m;
     return m;
   }
-  // out[i] = the smallest lane of v[i], for i < count (no lane NaN): the SIMD versions reduce
-  // several vectors in one pass.
-  friend void minOfLanesOfEach(const FloatScalar* v, int count, float* out) {
-    for (int i = 0; i < count; ++i) out[i] = minOfLanes(v[i], (1 << N) - 1);
-  }
 };
 
 using Float4Scalar = FloatScalar<4>;

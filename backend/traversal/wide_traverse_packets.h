@@ -54,19 +54,16 @@ struct PacketLanes {
     const FN largest = FN::broadcast(std::numeric_limits<float>::max()), lowest = zero - largest;
     const FN infinity = FN::broadcast(std::numeric_limits<float>::infinity());
     int negative[3] = {0, 0, 0};  // rays of active moving towards -axis
-    // The packet's bounds as lane-wise minima over the groups, reduced once at the end (a
-    // reduction per bound and group took about 140 instructions a packet of eight): origin and
-    // 1/dir per axis, then their negations (maxima), then tnear. Idle lanes hold +inf.
-    enum { kOrgLow = 0, kInvLow = 3, kOrgHighNegated = 6, kInvHighNegated = 9, kTnearLow = 12, kBounds = 13 };
-    FN lowestOf[kBounds];
-    for (FN& bound : lowestOf) bound = infinity;
+    float orgLow[3], orgHigh[3], invLow[3], invHigh[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      orgLow[axis] = invLow[axis] = std::numeric_limits<float>::infinity();
+      orgHigh[axis] = invHigh[axis] = -std::numeric_limits<float>::infinity();
+    }
+    tnearLow = std::numeric_limits<float>::infinity();
     for (int g = 0; g < groups; ++g) {
       const int base = g * kLanes;
       const int on = int((active >> base) & ((1u << kLanes) - 1));
-      const bool full = on == (1 << kLanes) - 1;
-      const auto accumulate = [&](int bound, const FN& x) {
-        lowestOf[bound] = min(lowestOf[bound], full ? x : select(on, x, infinity));
-      };
+      const auto maxOfLanes = [&](const FN& x) { return -minOfLanes(zero - x, on); };
       // Lanes without a ray enter nothing: nearT stays +inf, farT -inf.
       const FN tfarLanes = FN::fromLanes([&](int lane) { return rays[base + lane].tfar; });
       select(on, tfarLanes, zero - infinity).store(tfar + base);
@@ -83,7 +80,7 @@ struct PacketLanes {
       // The rays' box tests take the integer form of the single ray's (intersectWideNode), which
       // needs tnear +0 or positive and 1/dir finite and non-zero; other rays go alone.
       if ((bitsLessEqualMask(zero, tn) & lessEqualMask(tn, largest) & on) != on) return;
-      accumulate(kTnearLow, tn);
+      tnearLow = std::min(tnearLow, minOfLanes(tn, on));
       for (int axis = 0; axis < 3; ++axis) {
         const FN o = select(on, leading[axis], zero);
         const FN d = select(on, leading[4 + axis], infinity);
@@ -94,19 +91,11 @@ struct PacketLanes {
         o.store(org[axis] + base);
         (zero - inv).store(negInvDir[axis] + base);
         negative[axis] |= (lessMask(d, zero) & on) << base;
-        accumulate(kOrgLow + axis, o);
-        accumulate(kOrgHighNegated + axis, zero - o);
-        accumulate(kInvLow + axis, inv);
-        accumulate(kInvHighNegated + axis, zero - inv);
+        orgLow[axis] = std::min(orgLow[axis], minOfLanes(o, on));
+        orgHigh[axis] = std::max(orgHigh[axis], maxOfLanes(o));
+        invLow[axis] = std::min(invLow[axis], minOfLanes(inv, on));
+        invHigh[axis] = std::max(invHigh[axis], maxOfLanes(inv));
       }
-    }
-    float bounds[kBounds];
-    minOfLanesOfEach(lowestOf, kBounds, bounds);
-    tnearLow = bounds[kTnearLow];
-    float orgLow[3], orgHigh[3], invLow[3], invHigh[3];
-    for (int axis = 0; axis < 3; ++axis) {
-      orgLow[axis] = bounds[kOrgLow + axis], orgHigh[axis] = -bounds[kOrgHighNegated + axis];
-      invLow[axis] = bounds[kInvLow + axis], invHigh[axis] = -bounds[kInvHighNegated + axis];
     }
     for (int axis = 0; axis < 3; ++axis) {
       // Mixed signs: the rays' boxes would be tested ray by ray along the union of their paths.
