@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
@@ -99,16 +100,29 @@ inline bool resolveDegenerateHit(const WatertightRay& wr, const Ray& ray, Vertex
   return true;
 }
 
+// The ray's frame as the second half takes it: the frame itself, or a callable that makes it when
+// asked (only a degenerate triangle reads it; a packet leaf's candidate then makes its frame only
+// in that case: made for every candidate, it cost about 28 instructions each, 2.4 candidates a
+// coherent packet of eight on the bunny).
+template <typename Frame>
+[[gnu::always_inline]] inline const WatertightRay& frameFrom(Frame&& frame) {
+  if constexpr (std::is_invocable_v<Frame>)
+    return frame();
+  else
+    return frame;
+}
+
 // The end of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared frame,
 // no mixed signs) and the plane hit in double precision (t, u, v rounded to float; `degenerate`
 // when its determinant is zero) are known: rejects det == 0 and a distance outside the segment.
 // The SIMD kernels compute the plane hits of a block's four triangles at once and end each lane here.
-template <typename Vertex>
-[[gnu::always_inline]] inline bool finishWatertightHit(const WatertightRay& wr, const Ray& ray, Vertex&& vertex,
-                                                       float U, float V, float W, bool degenerate, float t, float u,
-                                                       float v, TriangleHit& out) {
+// frame: see frameFrom.
+template <typename Frame, typename Vertex>
+[[gnu::always_inline]] inline bool finishWatertightHit(Frame&& frame, const Ray& ray, Vertex&& vertex, float U,
+                                                       float V, float W, bool degenerate, float t, float u, float v,
+                                                       TriangleHit& out) {
   if (!(U + V + W != 0.f)) return false;  // also rejects NaN
-  if (degenerate) return resolveDegenerateHit(wr, ray, vertex, U, V, W, out);
+  if (degenerate) return resolveDegenerateHit(frameFrom(frame), ray, vertex, U, V, W, out);
   if (!(t > ray.tnear && t <= ray.tfar)) return false;
   out = {t, u, v};
   return true;
@@ -120,9 +134,7 @@ template <typename Vertex>
 // single precision the shear loses accuracy for small triangles far from the ray origin and for
 // grazing rays. Distance and barycentrics of an accepted candidate are therefore computed in
 // double precision from the triangle's own edges (per accepted candidate, not per test).
-// frame() gives the ray's WatertightRay, which only a degenerate triangle needs: a packet leaf's
-// candidate makes its frame only then (made for every candidate, it cost about 28 instructions
-// each, 2.4 candidates a coherent packet of eight on the bunny).
+// frame: see frameFrom.
 template <typename Frame, typename Vertex>
 [[gnu::always_inline]] inline bool resolveWatertightHitOf(Frame&& frame, const Ray& ray, Vertex&& vertex, float U,
                                                           float V, float W, TriangleHit& out) {
@@ -131,16 +143,15 @@ template <typename Frame, typename Vertex>
   for (int k = 0; k < 3; ++k)
     for (int a = 0; a < 3; ++a) v[k][a] = vertex(k, a);
   const DoublePlaneHit<double> h = planeHitInDouble(org, dir, v[0], v[1], v[2]);
-  if (!(U + V + W != 0.f)) return false;  // finishWatertightHit's first test, before a frame is made
-  if (h.det == 0.0) return resolveDegenerateHit(frame(), ray, vertex, U, V, W, out);
-  return finishWatertightHit(WatertightRay(), ray, vertex, U, V, W, false, float(h.t), float(h.u), float(h.v), out);
+  return finishWatertightHit(frame, ray, vertex, U, V, W, h.det == 0.0, float(h.t), float(h.u), float(h.v), out);
 }
 
-inline bool resolveWatertightHit(const WatertightRay& wr, const Ray& ray, const Vec3f& v0, const Vec3f& v1,
-                                 const Vec3f& v2, float U, float V, float W, TriangleHit& out) {
+template <typename Frame>
+[[gnu::always_inline]] inline bool resolveWatertightHit(Frame&& frame, const Ray& ray, const Vec3f& v0,
+                                                        const Vec3f& v1, const Vec3f& v2, float U, float V, float W,
+                                                        TriangleHit& out) {
   const Vec3f* vertices[3] = {&v0, &v1, &v2};
-  return resolveWatertightHitOf([&]() -> const WatertightRay& { return wr; }, ray,
-                                [&](int k, int axis) { return (*vertices[k])[axis]; }, U, V, W, out);
+  return resolveWatertightHitOf(frame, ray, [&](int k, int axis) { return (*vertices[k])[axis]; }, U, V, W, out);
 }
 
 // Returns true and fills out when the ray hits the triangle with tnear < t <= tfar.

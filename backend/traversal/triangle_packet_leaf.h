@@ -129,7 +129,6 @@ template <typename FR, typename FrameOf, typename Visit>
         e.V.store(V);
         e.W.store(W);
         const StoredTriangle tri = block.triangle(t);
-        const Vec3f* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
         for (; candidates; candidates &= candidates - 1) {
           const int lane = __builtin_ctz(unsigned(candidates));
           const int r = base + lane;
@@ -137,9 +136,8 @@ template <typename FR, typename FrameOf, typename Visit>
           TriangleHit th;
           const bool hit = (verdict.recheck >> lane) & 1
                                ? intersectWatertight(frameOf(r), rays[r], tri.v0, tri.v1, tri.v2, th)
-                               : resolveWatertightHitOf([&]() -> const WatertightRay& { return frameOf(r); }, rays[r],
-                                                        [&](int k, int axis) { return (*corners[k])[axis]; }, U[lane],
-                                                        V[lane], W[lane], th);
+                               : resolveWatertightHit([&]() -> const WatertightRay& { return frameOf(r); }, rays[r],
+                                                      tri.v0, tri.v1, tri.v2, U[lane], V[lane], W[lane], th);
           if (hit && visit(r, tri, th)) done |= 1u << r;
         }
       }
