@@ -4,12 +4,14 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstring>
 #include <limits>
 #include <type_traits>
 
 #include "geometry.h"
+#include "memory/uninitialized_array.h"
 #include "scene.h"
 #include "traversal/query_callbacks.h"
 #include "traversal_statistics_state.h"
@@ -84,6 +86,14 @@ class QueryDispatch final : public QueryCallbacks {
   // Traced as backend packets when no callback can observe the order of the lanes, else lane by lane.
   void intersectPacket(const int* valid, RTCRayHitN* packet, unsigned N);
   void occludedPacket(const int* valid, RTCRayN* packet, unsigned N);
+  // Streams of single rays (rtcIntersect1M/1Mp, rtcOccluded1M/1Mp): rayAt(i) is ray i of count, or
+  // null for a lane to skip (1Mp). Declared coherent and with no callback to observe the order,
+  // they are traced as packets of consecutive rays, as Embree's coherent streams are; else one by
+  // one.
+  template <typename RayHitAt>
+  void intersectStream(unsigned count, RayHitAt&& rayAt);
+  template <typename RayAt>
+  void occludedStream(unsigned count, RayAt&& rayAt);
 
   bool acceptHit(const void* owner, const Ray& ray, const Hit& candidate, float t, bool occlusion) override;
   bool intersectUser(const void* owner, uint32_t geomID, uint32_t primID, Ray& ray, Hit& hit,
@@ -95,6 +105,8 @@ class QueryDispatch final : public QueryCallbacks {
 
  private:
   RTCRay embreeRay(const Ray& ray, float tfar) const;
+  template <typename Application, typename RayAt, typename Trace>
+  void traceStreamInPackets(unsigned count, RayAt&& rayAt, Trace&& trace) const;
 
   // The members UserIntersectArguments and UserOccludedArguments share (one ray, N = 1).
   template <typename Arguments>
@@ -116,6 +128,67 @@ class QueryDispatch final : public QueryCallbacks {
   QueryState state_;
   bool masksOn_;
 };
+
+// How many consecutive rays of a coherent stream travel as one packet: eight-wide nodes test them
+// as one lane group.
+constexpr unsigned kStreamPacketRays = 8;
+static_assert(kStreamPacketRays <= unsigned(kMaxPacketSize));
+
+inline const RTCRay& embreeRayOf(const RTCRayHit& rayhit) { return rayhit.ray; }
+inline const RTCRay& embreeRayOf(const RTCRay& ray) { return ray; }
+
+// Gathers the stream's rays kStreamPacketRays at a time into backend rays and hands each packet to
+// trace(rays, live, application): application[k] is the application's ray of lane k, live the
+// lanes to trace. Null entries and empty segments (tnear > tfar, which can report nothing) are
+// left out, as gatherLiveLanes leaves them out of packets.
+template <typename Application, typename RayAt, typename Trace>
+void QueryDispatch::traceStreamInPackets(unsigned count, RayAt&& rayAt, Trace&& trace) const {
+  for (unsigned first = 0; first < count; first += kStreamPacketRays) {
+    const unsigned lanes = std::min(count - first, kStreamPacketRays);
+    UninitializedArray<Ray, kMaxPacketSize> rays;  // only the live lanes are written and read
+    Application* application[kStreamPacketRays];
+    uint32_t live = 0;
+    for (unsigned k = 0; k < lanes; ++k) {
+      application[k] = rayAt(first + k);
+      if (!application[k]) continue;
+      const RTCRay& ray = embreeRayOf(*application[k]);
+      if (ray.tnear > ray.tfar) continue;
+      rays[k] = backendRay(ray, masksOn_);
+      live |= 1u << k;
+    }
+    if (live != 0) trace(rays.data(), live, application);
+  }
+}
+
+template <typename RayHitAt>
+void QueryDispatch::intersectStream(unsigned count, RayHitAt&& rayAt) {
+  if (!state_.coherent || state_.callbacks) {
+    for (unsigned i = 0; i < count; ++i)
+      if (RTCRayHit* rayhit = rayAt(i)) intersect(*rayhit);
+    return;
+  }
+  traceStreamInPackets<RTCRayHit>(count, rayAt, [&](Ray* rays, uint32_t live, RTCRayHit* const* application) {
+    UninitializedArray<Hit, kMaxPacketSize> hits;
+    for (uint32_t found = scene_.accel().intersectPacket(rays, hits.data(), live, state_); found; found &= found - 1) {
+      const unsigned k = unsigned(__builtin_ctz(found));
+      application[k]->ray.tfar = rays[k].tfar;
+      application[k]->hit = embreeHit(hits[k]);
+    }
+  });
+}
+
+template <typename RayAt>
+void QueryDispatch::occludedStream(unsigned count, RayAt&& rayAt) {
+  if (!state_.coherent || state_.callbacks) {
+    for (unsigned i = 0; i < count; ++i)
+      if (RTCRay* ray = rayAt(i)) occluded(*ray);
+    return;
+  }
+  traceStreamInPackets<RTCRay>(count, rayAt, [&](const Ray* rays, uint32_t live, RTCRay* const* application) {
+    for (uint32_t blocked = scene_.accel().occludedPacket(rays, live, state_); blocked; blocked &= blocked - 1)
+      application[__builtin_ctz(blocked)]->tfar = -std::numeric_limits<float>::infinity();
+  });
+}
 
 // What obvh passes as RTCIntersectFunctionNArguments / RTCOccludedFunctionNArguments: Embree's
 // struct followed by what rtcFilterIntersection / rtcFilterOcclusion need to find the filters.

@@ -81,15 +81,12 @@ RTC_API void rtcIntersect1M(RTCScene scene, RTCIntersectContext* context, RTCRay
                             size_t byteStride) {
   query(scene, context, rayhit, [&](QueryDispatch& d) {
     auto* base = reinterpret_cast<unsigned char*>(rayhit);
-    for (unsigned i = 0; i < M; ++i) d.intersect(*reinterpret_cast<RTCRayHit*>(base + i * byteStride));
+    d.intersectStream(M, [&](unsigned i) { return reinterpret_cast<RTCRayHit*>(base + i * byteStride); });
   });
 }
 
 RTC_API void rtcIntersect1Mp(RTCScene scene, RTCIntersectContext* context, RTCRayHit** rayhit, unsigned int M) {
-  query(scene, context, rayhit, [&](QueryDispatch& d) {
-    for (unsigned i = 0; i < M; ++i)
-      if (rayhit[i]) d.intersect(*rayhit[i]);
-  });
+  query(scene, context, rayhit, [&](QueryDispatch& d) { d.intersectStream(M, [&](unsigned i) { return rayhit[i]; }); });
 }
 
 RTC_API void rtcIntersectNM(RTCScene scene, RTCIntersectContext* context, RTCRayHitN* rayhit, unsigned int N,
@@ -129,15 +126,12 @@ RTC_API void rtcOccluded1M(RTCScene scene, RTCIntersectContext* context, RTCRay*
                            size_t byteStride) {
   query(scene, context, ray, [&](QueryDispatch& d) {
     auto* base = reinterpret_cast<unsigned char*>(ray);
-    for (unsigned i = 0; i < M; ++i) d.occluded(*reinterpret_cast<RTCRay*>(base + i * byteStride));
+    d.occludedStream(M, [&](unsigned i) { return reinterpret_cast<RTCRay*>(base + i * byteStride); });
   });
 }
 
 RTC_API void rtcOccluded1Mp(RTCScene scene, RTCIntersectContext* context, RTCRay** ray, unsigned int M) {
-  query(scene, context, ray, [&](QueryDispatch& d) {
-    for (unsigned i = 0; i < M; ++i)
-      if (ray[i]) d.occluded(*ray[i]);
-  });
+  query(scene, context, ray, [&](QueryDispatch& d) { d.occludedStream(M, [&](unsigned i) { return ray[i]; }); });
 }
 
 RTC_API void rtcOccludedNM(RTCScene scene, RTCIntersectContext* context, RTCRayN* ray, unsigned int N,

@@ -1,7 +1,9 @@
 // rtcIntersect4/8/16 and rtcOccluded4/8/16 take each lane's ray from Embree's SOA layout four lanes
 // at a time. Every field must reach its own lane: each lane of a packet answers as the same ray
 // through rtcIntersect1 / rtcOccluded1, with its own mask (ray masks on and off), time, segment
-// and validity, and inactive lanes stay untouched.
+// and validity, and inactive lanes stay untouched. Streams of single rays declared coherent
+// (rtcIntersect1M/1Mp, rtcOccluded1M/1Mp) are traced as packets of consecutive rays: each ray must
+// answer as itself alone, whatever its place in a packet, its stride or a skipped (null) entry.
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
@@ -144,6 +146,81 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
     EXPECT_GT(open, 50u * W / 4);
   }
 
+  // A coherent stream of `count` rays (not a multiple of the packet size), laid out with a stride
+  // larger than RTCRayHit and, for 1Mp, one entry in seven null: each ray answers as rtcIntersect1
+  // answers it alone, and the padding between the rays stays untouched.
+  void expectCoherentStreamAnswersAsSingleRays(unsigned count) {
+    std::mt19937 rng(count);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct Padded {
+      RTCRayHit rayhit;
+      unsigned guard[5];
+    };
+    std::vector<Padded> stream(count), pointed(count);
+    std::vector<RTCRayHit> single(count);
+    std::vector<RTCRayHit*> pointers(count);
+    for (unsigned i = 0; i < count; ++i) {
+      single[i].ray = laneRay(rng);
+      single[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      stream[i].rayhit = pointed[i].rayhit = single[i];
+      for (unsigned& g : stream[i].guard) g = 0xC0FFEEu;
+      pointers[i] = i % 7 == 3 ? nullptr : &pointed[i].rayhit;
+    }
+    rtcIntersect1M(scene, &context, &stream[0].rayhit, count, sizeof(Padded));
+    rtcIntersect1Mp(scene, &context, pointers.data(), count);
+    size_t hits = 0;
+    for (unsigned i = 0; i < count; ++i) {
+      RTCRayHit alone = single[i];
+      rtcIntersect1(scene, &context, &alone);
+      for (unsigned g : stream[i].guard) EXPECT_EQ(g, 0xC0FFEEu) << "padding behind ray " << i;
+      EXPECT_EQ(stream[i].rayhit.hit.geomID, alone.hit.geomID) << "1M ray " << i;
+      EXPECT_EQ(stream[i].rayhit.ray.tfar, alone.ray.tfar) << "1M ray " << i;
+      const RTCRayHit& viaPointer = pointers[i] ? pointed[i].rayhit : alone;
+      if (!pointers[i]) {
+        EXPECT_EQ(std::memcmp(&pointed[i].rayhit, &single[i], sizeof(RTCRayHit)), 0) << "null entry " << i << " traced";
+      }
+      EXPECT_EQ(viaPointer.hit.geomID, alone.hit.geomID) << "1Mp ray " << i;
+      EXPECT_EQ(viaPointer.ray.tfar, alone.ray.tfar) << "1Mp ray " << i;
+      if (alone.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      ++hits;
+      EXPECT_EQ(stream[i].rayhit.hit.primID, alone.hit.primID) << "1M ray " << i;
+      EXPECT_EQ(stream[i].rayhit.hit.u, alone.hit.u) << "1M ray " << i;
+      EXPECT_EQ(stream[i].rayhit.hit.v, alone.hit.v) << "1M ray " << i;
+      EXPECT_EQ(stream[i].rayhit.hit.Ng_z, alone.hit.Ng_z) << "1M ray " << i;
+      EXPECT_EQ(viaPointer.hit.primID, alone.hit.primID) << "1Mp ray " << i;
+      EXPECT_EQ(viaPointer.hit.u, alone.hit.u) << "1Mp ray " << i;
+    }
+    EXPECT_GT(hits, count / 4);
+  }
+
+  void expectCoherentStreamOccludesAsSingleRays(unsigned count) {
+    std::mt19937 rng(count + 1);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    std::vector<RTCRay> stream(count), single(count);
+    std::vector<RTCRay> pointed(count);
+    std::vector<RTCRay*> pointers(count);
+    for (unsigned i = 0; i < count; ++i) {
+      single[i] = stream[i] = pointed[i] = laneRay(rng);
+      pointers[i] = i % 5 == 2 ? nullptr : &pointed[i];
+    }
+    rtcOccluded1M(scene, &context, stream.data(), count, sizeof(RTCRay));
+    rtcOccluded1Mp(scene, &context, pointers.data(), count);
+    size_t occluded = 0, open = 0;
+    for (unsigned i = 0; i < count; ++i) {
+      const float before = single[i].tfar;
+      rtcOccluded1(scene, &context, &single[i]);
+      EXPECT_EQ(stream[i].tfar, single[i].tfar) << "1M ray " << i;
+      EXPECT_EQ(pointed[i].tfar, pointers[i] ? single[i].tfar : before) << "1Mp ray " << i;
+      (single[i].tfar == -kInf ? occluded : open)++;
+    }
+    EXPECT_GT(occluded, count / 8);
+    EXPECT_GT(open, count / 8);
+  }
+
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
 };
@@ -158,6 +235,11 @@ TEST_P(PacketLanes, OccludedLanesAnswerAsSingleRays) {
   expectLanesOccludeAsSingleRays<4>(rtcOccluded4);
   expectLanesOccludeAsSingleRays<8>(rtcOccluded8);
   expectLanesOccludeAsSingleRays<16>(rtcOccluded16);
+}
+
+TEST_P(PacketLanes, CoherentStreamsAnswerAsSingleRays) {
+  expectCoherentStreamAnswersAsSingleRays(1003);
+  expectCoherentStreamOccludesAsSingleRays(1003);
 }
 
 INSTANTIATE_TEST_SUITE_P(RayMasks, PacketLanes,

@@ -218,19 +218,30 @@ void expectStreamAgrees(Fixture& f, const std::vector<RTCRayHit>& a, const std::
   EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
 }
 
-TEST(CrossvalStreams, Intersect1MAnd1Mp) {
-  Fixture f;
+void expectIntersect1MAnd1MpAgree(Fixture& f, const std::string& suffix = "") {
   std::vector<RTCRayHit> a = asRayHits(f.rays), b = a;
   f.libs.embree->rtcIntersect1M(f.reference.scene(), &f.context, a.data(), unsigned(a.size()), sizeof(RTCRayHit));
   f.libs.obvh->rtcIntersect1M(f.candidate.scene(), &f.context, b.data(), unsigned(b.size()), sizeof(RTCRayHit));
-  expectStreamAgrees(f, a, b, "rtcIntersect1M");
+  expectStreamAgrees(f, a, b, ("rtcIntersect1M" + suffix).c_str());
 
   std::vector<RTCRayHit> c = asRayHits(f.rays), d = c;
   std::vector<RTCRayHit*> pc, pd;
   for (size_t i = 0; i < c.size(); ++i) pc.push_back(&c[i]), pd.push_back(&d[i]);
   f.libs.embree->rtcIntersect1Mp(f.reference.scene(), &f.context, pc.data(), unsigned(pc.size()));
   f.libs.obvh->rtcIntersect1Mp(f.candidate.scene(), &f.context, pd.data(), unsigned(pd.size()));
-  expectStreamAgrees(f, c, d, "rtcIntersect1Mp");
+  expectStreamAgrees(f, c, d, ("rtcIntersect1Mp" + suffix).c_str());
+}
+
+TEST(CrossvalStreams, Intersect1MAnd1Mp) {
+  Fixture f;
+  expectIntersect1MAnd1MpAgree(f);
+}
+
+// Declared coherent, obvh traces these streams as packets of consecutive rays (Embree too).
+TEST(CrossvalStreams, CoherentIntersect1MAnd1Mp) {
+  Fixture f;
+  f.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  expectIntersect1MAnd1MpAgree(f, " (coherent)");
 }
 
 TEST(CrossvalStreams, IntersectNMAndNp) {
@@ -285,16 +296,27 @@ TEST(CrossvalStreams, IntersectNMAndNp) {
   expectStreamAgrees(f, na, nb, "rtcIntersectNp");
 }
 
-TEST(CrossvalStreams, Occluded1MNMAndNp) {
-  Fixture f;
+void expectOccluded1MAgrees(Fixture& f, const char* name) {
   std::vector<RTCRay> a(f.rays.begin(), f.rays.begin() + 20000), b = a;
   f.libs.embree->rtcOccluded1M(f.reference.scene(), &f.context, a.data(), unsigned(a.size()), sizeof(RTCRay));
   f.libs.obvh->rtcOccluded1M(f.candidate.scene(), &f.context, b.data(), unsigned(b.size()), sizeof(RTCRay));
   CrossvalCounts counts;
   const float hit = -std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < a.size(); ++i) judgeOcclusion(f.scene, f.rays[i], a[i].tfar == hit, b[i].tfar == hit, counts);
-  std::printf("[crossval] %-34s %s\n", "rtcOccluded1M", counts.summary().c_str());
+  std::printf("[crossval] %-34s %s\n", name, counts.summary().c_str());
   EXPECT_EQ(counts.mismatched, 0u) << counts.summary();
+}
+
+TEST(CrossvalStreams, CoherentOccluded1M) {
+  Fixture f;
+  f.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  expectOccluded1MAgrees(f, "rtcOccluded1M (coherent)");
+}
+
+TEST(CrossvalStreams, Occluded1MNMAndNp) {
+  Fixture f;
+  expectOccluded1MAgrees(f, "rtcOccluded1M");
+  const float hit = -std::numeric_limits<float>::infinity();
 
   constexpr unsigned N = 4;
   const unsigned M = 5000;

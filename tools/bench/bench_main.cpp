@@ -100,7 +100,8 @@ Options parseOptions(int argc, char** argv) {
 // One row of the table: a ray set traced through one query API, with the intersect context's
 // coherence hint an application would give it (Embree's documentation: primary visibility and hard
 // shadows are coherent workloads; rtcInitIntersectContext's default says incoherent).
-enum class Query { Intersect1, Intersect8, Occluded1, Occluded8 };
+enum class Query { Intersect1, Intersect8, Intersect1M, Occluded1, Occluded8, Occluded1M };
+bool isOcclusion(Query q) { return q == Query::Occluded1 || q == Query::Occluded8 || q == Query::Occluded1M; }
 struct Workload {
   const char* name;
   Query query;
@@ -156,6 +157,8 @@ double tracePass(const LibraryRun& run, const Workload& w, Result* r) {
     case Query::Intersect8: return traceIntersect8Mrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
     case Query::Occluded1: return traceOccludedMrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
     case Query::Occluded8: return traceOccluded8Mrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
+    case Query::Intersect1M: return traceIntersect1MMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
+    case Query::Occluded1M: return traceOccluded1MMrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
   }
   return 0.0;
 }
@@ -307,6 +310,7 @@ int main(int argc, char** argv) {
         {"primary perspective, no coherence hint", Query::Intersect1, &perspective},
         {"primary perspective, packets of 8", Query::Intersect8, &perspective, kCoherent},
         {"primary perspective, packets of 8, no coherence hint", Query::Intersect8, &perspective},
+        {"primary perspective, streams of 64 (rtcIntersect1M)", Query::Intersect1M, &perspective, kCoherent},
         {"primary orthographic", Query::Intersect1, &orthographic, kCoherent},
         {"random (incoherent)", Query::Intersect1, &random},
         {"from a point source", Query::Intersect1, &fromSource}};
@@ -321,6 +325,7 @@ int main(int argc, char** argv) {
     workloads.push_back({"shadow, no coherence hint", Query::Occluded1, &shadow});
     workloads.push_back({"shadow, packets of 8", Query::Occluded8, &shadow, kCoherent});
     workloads.push_back({"shadow, packets of 8, no coherence hint", Query::Occluded8, &shadow});
+    workloads.push_back({"shadow, streams of 64 (rtcOccluded1M)", Query::Occluded1M, &shadow, kCoherent});
     for (size_t k = firstSecondary; k < workloads.size(); ++k) traceInTurns(runs, workloads[k], options.runs);
     const size_t shadowRow = firstSecondary + 1;
 
@@ -356,7 +361,7 @@ int main(int argc, char** argv) {
       bool modeClean = true;
       for (size_t k = 0; k < workloads.size(); ++k) {
         const Workload& w = workloads[k];
-        if (w.query == Query::Occluded1 || w.query == Query::Occluded8) {
+        if (isOcclusion(w.query)) {
           const MismatchCount c = compareOcclusions(runs[0].results[k].rays, runs[r].results[k].rays);
           std::printf("  %-56s %9zu rays: %zu occlusion answers differ\n", w.name, c.rays, c.differing);
           continue;

@@ -83,6 +83,39 @@ void unpack8(const std::vector<Packet8>& packets, size_t count, std::vector<Out>
   }
 }
 
+// kStreamRays consecutive rays (fewer in the last stream) for rtcIntersect1M / rtcOccluded1M.
+template <typename RayType>
+struct Stream {
+  RayType rays[kStreamRays];
+  unsigned count = 0;
+};
+
+template <typename RayType>
+std::vector<Stream<RayType>> streamsOf(const std::vector<RayType>& rays) {
+  std::vector<Stream<RayType>> streams((rays.size() + kStreamRays - 1) / kStreamRays);
+  for (size_t i = 0; i < rays.size(); ++i) streams[i / kStreamRays].rays[streams[i / kStreamRays].count++] = rays[i];
+  return streams;
+}
+
+template <typename RayType>
+void unpackStreams(const std::vector<Stream<RayType>>& streams, std::vector<RayType>& out) {
+  out.clear();
+  for (const Stream<RayType>& s : streams) out.insert(out.end(), s.rays, s.rays + s.count);
+}
+
+// timedRuns over the rays in streams; traceStream(context, first ray, count) traces one.
+template <typename RayType, typename TraceStream>
+double streamRuns(const std::vector<RayType>& rays, int runs, std::vector<RayType>* answers,
+                  RTCIntersectContextFlags contextFlags, TraceStream traceStream) {
+  std::vector<Stream<RayType>> first;
+  const double rate = timedRuns(
+      streamsOf<RayType>(rays), runs, answers ? &first : nullptr,
+      [&](RTCIntersectContext* context, Stream<RayType>* s) { traceStream(context, s->rays, s->count); }, rays.size(),
+      contextFlags);
+  if (answers) unpackStreams(first, *answers);
+  return rate;
+}
+
 }  // namespace
 
 double median(std::vector<double> v) {
@@ -131,6 +164,23 @@ double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vec
       rays.size(), contextFlags);
   if (answers) unpack8(first, rays.size(), *answers);
   return rate;
+}
+
+double traceIntersect1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                             std::vector<RTCRayHit>* answers,
+                             RTCIntersectContextFlags contextFlags) {
+  return streamRuns(asRayHits(rays), runs, answers, contextFlags,
+                    [&](RTCIntersectContext* context, RTCRayHit* first, unsigned count) {
+                      lib.rtcIntersect1M(scene, context, first, count, sizeof(RTCRayHit));
+                    });
+}
+
+double traceOccluded1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                            std::vector<RTCRay>* answers,
+                            RTCIntersectContextFlags contextFlags) {
+  return streamRuns(rays, runs, answers, contextFlags, [&](RTCIntersectContext* context, RTCRay* first, unsigned count) {
+    lib.rtcOccluded1M(scene, context, first, count, sizeof(RTCRay));
+  });
 }
 
 }  // namespace obvh::tools

@@ -39,4 +39,14 @@ double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vec
                            std::vector<RTCRay>* answers = nullptr,
                            RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 
+// The same through streams (rtcIntersect1M / rtcOccluded1M) of kStreamRays consecutive rays, as an
+// application tracing a tile or a row segment of pixels at a time would.
+constexpr size_t kStreamRays = 64;
+double traceIntersect1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                             std::vector<RTCRayHit>* answers = nullptr,
+                             RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+double traceOccluded1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                            std::vector<RTCRay>* answers = nullptr,
+                            RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+
 }  // namespace obvh::tools
