@@ -2,6 +2,7 @@
 // Packets and SOA streams go to the backend's packet traversal (QueryDispatch::intersectPacket).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "api_error.h"
@@ -24,6 +25,12 @@ void query(RTCScene handle, RTCIntersectContext* context, const void* rays, Body
     QueryDispatch dispatch(*scene, *context);
     body(dispatch);
   });
+}
+
+// Ray i of an Np stream (RTCRayNp: one array per member; time, mask, id and flags may be absent).
+RTCRay rayOfNp(const RTCRayNp& r, unsigned i) {
+  return {r.org_x[i], r.org_y[i], r.org_z[i], r.tnear[i], r.dir_x[i], r.dir_y[i], r.dir_z[i], r.time ? r.time[i] : 0.f,
+          r.tfar[i], r.mask ? r.mask[i] : 0xFFFFFFFFu, r.id ? r.id[i] : 0u, r.flags ? r.flags[i] : 0u};
 }
 
 }  // namespace
@@ -102,22 +109,31 @@ RTC_API void rtcIntersectNp(RTCScene scene, RTCIntersectContext* context, const 
   query(scene, context, rayhit, [&](QueryDispatch& d) {
     const RTCRayNp& r = rayhit->ray;
     const RTCHitNp& h = rayhit->hit;
-    for (unsigned i = 0; i < N; ++i) {
-      RTCRayHit one{};
-      one.ray = {r.org_x[i], r.org_y[i], r.org_z[i], r.tnear[i], r.dir_x[i], r.dir_y[i], r.dir_z[i],
-                 r.time ? r.time[i] : 0.f, r.tfar[i], r.mask ? r.mask[i] : 0xFFFFFFFFu, r.id ? r.id[i] : 0u,
-                 r.flags ? r.flags[i] : 0u};
-      if (!d.intersect(one)) continue;
-      r.tfar[i] = one.ray.tfar;
-      h.Ng_x[i] = one.hit.Ng_x;
-      h.Ng_y[i] = one.hit.Ng_y;
-      h.Ng_z[i] = one.hit.Ng_z;
-      h.u[i] = one.hit.u;
-      h.v[i] = one.hit.v;
-      h.primID[i] = one.hit.primID;
-      h.geomID[i] = one.hit.geomID;
-      for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
-        if (h.instID[level]) h.instID[level][i] = one.hit.instID[level];
+    // Taken over kStreamPacketRays at a time, so that a coherent stream is traced as packets.
+    for (unsigned first = 0; first < N; first += kStreamPacketRays) {
+      const unsigned count = std::min(N - first, kStreamPacketRays);
+      RTCRayHit rays[kStreamPacketRays];
+      for (unsigned k = 0; k < count; ++k) {
+        rays[k] = RTCRayHit{};
+        rays[k].ray = rayOfNp(r, first + k);
+        rays[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;  // stays so unless the ray hits
+      }
+      d.intersectStream(count, [&](unsigned k) { return &rays[k]; });
+      for (unsigned k = 0; k < count; ++k) {
+        const RTCRayHit& one = rays[k];
+        if (one.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        const unsigned i = first + k;
+        r.tfar[i] = one.ray.tfar;
+        h.Ng_x[i] = one.hit.Ng_x;
+        h.Ng_y[i] = one.hit.Ng_y;
+        h.Ng_z[i] = one.hit.Ng_z;
+        h.u[i] = one.hit.u;
+        h.v[i] = one.hit.v;
+        h.primID[i] = one.hit.primID;
+        h.geomID[i] = one.hit.geomID;
+        for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
+          if (h.instID[level]) h.instID[level][i] = one.hit.instID[level];
+      }
     }
   });
 }
@@ -144,12 +160,13 @@ RTC_API void rtcOccludedNM(RTCScene scene, RTCIntersectContext* context, RTCRayN
 
 RTC_API void rtcOccludedNp(RTCScene scene, RTCIntersectContext* context, const RTCRayNp* ray, unsigned int N) {
   query(scene, context, ray, [&](QueryDispatch& d) {
-    for (unsigned i = 0; i < N; ++i) {
-      RTCRay one = {ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->tnear[i], ray->dir_x[i], ray->dir_y[i],
-                    ray->dir_z[i], ray->time ? ray->time[i] : 0.f, ray->tfar[i],
-                    ray->mask ? ray->mask[i] : 0xFFFFFFFFu, ray->id ? ray->id[i] : 0u,
-                    ray->flags ? ray->flags[i] : 0u};
-      if (d.occluded(one)) ray->tfar[i] = one.tfar;
+    for (unsigned first = 0; first < N; first += kStreamPacketRays) {
+      const unsigned count = std::min(N - first, kStreamPacketRays);
+      RTCRay rays[kStreamPacketRays];
+      for (unsigned k = 0; k < count; ++k) rays[k] = rayOfNp(*ray, first + k);
+      d.occludedStream(count, [&](unsigned k) { return &rays[k]; });
+      for (unsigned k = 0; k < count; ++k)
+        if (rays[k].tfar == -std::numeric_limits<float>::infinity()) ray->tfar[first + k] = rays[k].tfar;
     }
   });
 }
