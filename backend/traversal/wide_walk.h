@@ -140,7 +140,9 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
         const int second = __builtin_ctz(unsigned(rest));
         const bool firstNearer = entry[first] <= entry[second];
         const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
-        nodes.prefetch(child[nearLane]);
+        // The predicted walk loads the child it guesses at once: its prefetch would only cost the
+        // instructions (bunny camera rays 2% faster without it, motorBike and dragon the same).
+        if constexpr (!kPredictLanes) nodes.prefetch(child[nearLane]);
         nodes.prefetch(child[farLane]);
         stack[top++] = {child[farLane], entry[farLane]};
         current = kPredictLanes ? childOfPredictedLane<N>(child, nearLane) : child[nearLane];
@@ -153,12 +155,13 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
       while (mask) {
         const int lane = __builtin_ctz(unsigned(mask));
         mask &= mask - 1;
-        nodes.prefetch(child[lane]);
+        if constexpr (!kPredictLanes) nodes.prefetch(child[lane]);
         keys[n++] = childOrderKey(entry[lane], lane);
       }
       sortChildOrderKeys(keys, n);
       for (int k = n - 1; k >= 1; --k) {
         const int lane = childOrderLane(keys[k]);
+        if constexpr (kPredictLanes) nodes.prefetch(child[lane]);  // all but the guessed nearest
         stack[top++] = {child[lane], entry[lane]};
       }
       const int nearest = childOrderLane(keys[0]);
