@@ -86,8 +86,8 @@ class QueryDispatch final : public QueryCallbacks {
   // Traced as backend packets when no callback can observe the order of the lanes, else lane by lane.
   void intersectPacket(const int* valid, RTCRayHitN* packet, unsigned N);
   void occludedPacket(const int* valid, RTCRayN* packet, unsigned N);
-  // Streams of single rays (rtcIntersect1M/1Mp, rtcOccluded1M/1Mp): rayAt(i) is ray i of count, or
-  // null for a lane to skip (1Mp). Declared coherent and with no callback to observe the order,
+  // Streams of single rays (rtcIntersect1M/1Mp/Np, rtcOccluded1M/1Mp/Np): rayAt(i) is ray i of
+  // count, or null for a lane to skip (1Mp). Declared coherent and with no callback to observe the order,
   // they are traced as packets of consecutive rays, as Embree's coherent streams are; else one by
   // one.
   template <typename RayHitAt>
