@@ -1,5 +1,6 @@
 // rtcIntersect* and rtcOccluded*: validate, convert Embree's ray layouts to the backend's and back.
-// Packets and SOA streams go to the backend's packet traversal (QueryDispatch::intersectPacket).
+// Packets and SOA streams go to the backend's packet traversal (QueryDispatch::intersectPacket), as
+// do streams of single rays declared coherent (QueryDispatch::intersectStream).
 #include <embree3/rtcore.h>
 
 #include <algorithm>
