@@ -114,16 +114,7 @@ CrossvalCounts crossvalIntersect1(const SceneData& scene, const std::vector<RTCR
 
 void judgeOcclusion(const SceneData& scene, const RTCRay& ray, bool embreeOccluded, bool obvhOccluded,
                     CrossvalCounts& counts) {
-  tools::Comparison c;
-  if (embreeOccluded != obvhOccluded) {
-    const tools::OcclusionTruth truth = tools::exactOcclusion(scene, ray);
-    const bool obvhRight = (truth == tools::OcclusionTruth::Occluded) == obvhOccluded;
-    c.verdict = truth == tools::OcclusionTruth::Ambiguous || obvhRight ? tools::Verdict::Ambiguous
-                                                                         : tools::Verdict::Mismatch;
-    c.reason = std::string("occlusion: embree ") + (embreeOccluded ? "occluded" : "free") + ", obvh " +
-               (obvhOccluded ? "occluded" : "free");
-  }
-  counts.add(c, ray);
+  counts.add(tools::compareOcclusion(scene, ray, embreeOccluded, obvhOccluded), ray);
 }
 
 CrossvalCounts compareCommittedOcclusion(const SceneData& scene, const tools::CommittedScene& reference,

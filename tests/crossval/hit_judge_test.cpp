@@ -92,5 +92,28 @@ TEST(HitJudge, OcclusionTruth) {
   EXPECT_EQ(tools::exactOcclusion(scene, downRay(3.f, 3.f)), tools::OcclusionTruth::Free);
 }
 
+// The benchmark's shadow rows and the cross-validation's occlusion checks judge with this verdict:
+// a differing answer is accepted only where double precision finds the ray borderline or sides with
+// the candidate (obvh).
+TEST(HitJudge, OcclusionVerdicts) {
+  const SceneData scene = twoParallelQuads();
+  const RTCRay blocked = downRay(0.3f, 0.4f), open = downRay(3.f, 3.f);
+  EXPECT_EQ(tools::compareOcclusion(scene, blocked, true, true).verdict, Verdict::Equal);
+  EXPECT_EQ(tools::compareOcclusion(scene, open, false, false).verdict, Verdict::Equal);
+  EXPECT_EQ(tools::compareOcclusion(scene, blocked, false, true).verdict, Verdict::Ambiguous);
+  EXPECT_EQ(tools::compareOcclusion(scene, blocked, true, false).verdict, Verdict::Mismatch);
+  EXPECT_EQ(tools::compareOcclusion(scene, open, true, false).verdict, Verdict::Ambiguous);
+  EXPECT_EQ(tools::compareOcclusion(scene, open, false, true).verdict, Verdict::Mismatch);
+  // On the near quad's edge (x = 1, where the far quad's edge lies too) either answer stands.
+  const RTCRay onEdge = downRay(1.f, 0.5f);
+  EXPECT_EQ(tools::exactOcclusion(scene, onEdge), tools::OcclusionTruth::Ambiguous);
+  EXPECT_EQ(tools::compareOcclusion(scene, onEdge, true, false).verdict, Verdict::Ambiguous);
+  EXPECT_EQ(tools::compareOcclusion(scene, onEdge, false, true).verdict, Verdict::Ambiguous);
+  // A segment that ends before the near quad (tfar 0.5 of the way down) is free.
+  RTCRay shortOfIt = blocked;
+  shortOfIt.tfar = 0.5f;
+  EXPECT_EQ(tools::compareOcclusion(scene, shortOfIt, false, true).verdict, Verdict::Mismatch);
+}
+
 }  // namespace
 }  // namespace obvh::test

@@ -300,6 +300,25 @@ OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const C
   return ambiguous ? OcclusionTruth::Ambiguous : OcclusionTruth::Free;
 }
 
+Comparison judgeOcclusion(OcclusionTruth truth, bool referenceOccluded, bool candidateOccluded) {
+  Comparison c;
+  if (referenceOccluded == candidateOccluded) return c;
+  const bool candidateRight = (truth == OcclusionTruth::Occluded) == candidateOccluded;
+  c.verdict = truth == OcclusionTruth::Ambiguous || candidateRight ? Verdict::Ambiguous : Verdict::Mismatch;
+  const char* truthName = truth == OcclusionTruth::Ambiguous  ? "borderline"
+                          : truth == OcclusionTruth::Occluded ? "occluded"
+                                                              : "free";
+  c.reason = std::string("occlusion: reference ") + (referenceOccluded ? "occluded" : "free") + ", candidate " +
+             (candidateOccluded ? "occluded" : "free") + ", double precision " + truthName;
+  return c;
+}
+
+Comparison compareOcclusion(const SceneData& scene, const RTCRay& ray, bool referenceOccluded, bool candidateOccluded,
+                            const CompareTolerance& tol) {
+  if (referenceOccluded == candidateOccluded) return {};
+  return judgeOcclusion(exactOcclusion(scene, ray, tol), referenceOccluded, candidateOccluded);
+}
+
 bool hitIsPlausible(const SceneData& scene, const RTCRay& ray, unsigned geomID, unsigned primID,
                     const CompareTolerance& tol) {
   const double edgeTolerance = edgeToleranceFor(scene, ray, geomID, primID, tol);

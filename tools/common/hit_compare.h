@@ -47,6 +47,14 @@ std::vector<ExactPart> intersectExact(const SceneData& scene, const RTCRay& ray,
 enum class OcclusionTruth { Occluded, Free, Ambiguous };
 OcclusionTruth exactOcclusion(const SceneData& scene, const RTCRay& ray, const CompareTolerance& tolerance = {});
 
+// Two libraries' occlusion answers for one ray. Different answers are accepted (Ambiguous) when the
+// brute-force double-precision test finds the ray borderline, or when it agrees with the candidate;
+// a candidate contradicting a clear double-precision answer is a Mismatch.
+Comparison compareOcclusion(const SceneData& scene, const RTCRay& ray, bool referenceOccluded, bool candidateOccluded,
+                            const CompareTolerance& tolerance = {});
+// The same verdict from an exactOcclusion answer already at hand (callers judging many rows of the same rays).
+Comparison judgeOcclusion(OcclusionTruth truth, bool referenceOccluded, bool candidateOccluded);
+
 // Whether a library may report a hit on (geomID, primID) for this ray: false only when double
 // precision proves the ray's line passes outside the primitive, or meets it outside (tnear, tfar],
 // by more than rounding the float inputs can explain.
