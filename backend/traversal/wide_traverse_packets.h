@@ -347,14 +347,19 @@ struct PacketFrames {
   bool shearMade_ = false;
 };
 
-// A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least a quarter of
-// a lane group reaches it together; fewer rays are tested one by one against the blocks' four
-// triangles at a time, which costs less per ray than a pass over every triangle. (Half a group was
-// the threshold while rays went on alone at four; at a quarter coherent rtcIntersect8 traced 1-2%
-// faster, the other packet workloads the same.)
+// A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least three
+// quarters of a lane group reach it together; fewer rays are tested one by one against the blocks'
+// four triangles at a time. The lanes share each triangle's loads, but every candidate they find
+// takes the scalar double-precision second half, where a ray's own block test takes it for four
+// triangles at once (simd/double_lanes.h): since that change the lanes paid only where most of a
+// packet meets a leaf whose triangles few of its rays hit (the slanted stacks' long slivers). At a
+// quarter (the threshold until 2026-11-27) against three quarters, per process, one thread:
+// rtcIntersect8 bunny / motorBike / dragon 1.028 / 1.072 / 1.080, rtcOccluded8 1.046 / 1.043 /
+// 1.035, streams of 64 1.03-1.05, axis-516k 1.33, diagonal-42k 1.01 (shadow packets 1.45); never
+// as lanes lost diagonal-42k's camera packets 23%.
 template <typename FN>
 bool leafTestsRaysAsLanes(const TriangleSet& set, uint32_t rays) {
-  return !set.fast && __builtin_popcount(rays) * 4 >= FN::kWidth;
+  return !set.fast && __builtin_popcount(rays) * 4 >= FN::kWidth * 3;
 }
 
 template <typename FN, typename F4>
