@@ -219,15 +219,18 @@ class OcclusionJudge {
     const auto occluded = [](const RTCRay& r) { return r.tfar == -std::numeric_limits<float>::infinity(); };
     std::vector<int8_t>& truths = truths_[&rays];
     truths.resize(rays.size(), kUnknown);
-    std::vector<size_t> unjudged;
-    for (size_t i = 0; i < rays.size(); ++i)
-      if (occluded(reference[i]) != occluded(candidate[i]) && truths[i] == kUnknown) unjudged.push_back(i);
+    std::vector<size_t> differing, unjudged;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (occluded(reference[i]) == occluded(candidate[i])) continue;
+      differing.push_back(i);
+      if (truths[i] == kUnknown) unjudged.push_back(i);
+    }
     tbb::parallel_for(size_t(0), unjudged.size(), [&](size_t k) {
       truths[unjudged[k]] = int8_t(exactOcclusion(scene_, rays[unjudged[k]]));
     });
     MismatchCount count;
     count.rays = rays.size();
-    for (size_t i = 0; i < rays.size(); ++i)
+    for (size_t i : differing)
       count.add(judgeOcclusion(OcclusionTruth(truths[i]), occluded(reference[i]), occluded(candidate[i])), rays[i]);
     return count;
   }
