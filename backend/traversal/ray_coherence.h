@@ -16,8 +16,17 @@ struct PreviousRay {
 };
 
 // One record a thread, shared by every scene and layout: a stream of rays alternating between two
-// scenes reads as incoherent, which costs it the guesses, never an answer. The kernels that read it
-// are compiled with TLS descriptors (backend/CMakeLists.txt), so the access is a few instructions.
+// scenes reads as incoherent, which costs it the guesses, never an answer. Reached through the
+// default TLS dialect's call to __tls_get_addr, which the compiler treats as any call (the
+// kernel's vector registers are saved around it). Not through TLS descriptors
+// (-mtls-dialect=gnu2, used here until 2026-11-27): their call is assumed to preserve every
+// register, but a thread's first access takes glibc's slow path, which allocates the thread's
+// block with malloc, and on this Debian 12 (glibc 2.36) the first ray of a thread lost vector
+// registers there and could miss a hit: after the shared walk (wide_walk.h) was restructured, an
+// oriented layouts' crossval test missed a hit on its first ray in about a third of the runs,
+// depending on the address layout; with the default dialect, 0 of 9. Nor initial-exec: the
+// benchmark loads two copies of the library (libobvh.so and the drop-in libembree3.so.3) next to
+// Debian's Embree, and the static TLS block had no room left for the second copy.
 inline thread_local PreviousRay previousRay;
 
 // True when the ray starts within 1/32 of sceneExtent (the largest side of the scene's box) of the
@@ -26,7 +35,7 @@ inline thread_local PreviousRay previousRay;
 // ray after it. Either answer only picks a walk: both give the same hits.
 inline bool followsPreviousRay(const Ray& ray, float sceneExtent) {
   PreviousRay* record = &previousRay;
-  // One look-up of the thread's record: GCC otherwise repeats it (a call to the TLS resolver when
+  // One look-up of the thread's record: GCC otherwise repeats it (a call to __tls_get_addr when
   // the library was loaded with dlopen) in each branch that stores the ray.
   asm("" : "+r"(record));
   PreviousRay& previous = *record;
