@@ -42,6 +42,21 @@ class WatertightRayOnDemand {
   bool prepared_ = false;
 };
 
+// The watertight test's constants made by the walk once the ray is known to enter the tree
+// (walkWideTree's onEntering), before any leaf reads them: the fast mode leaves them unmade.
+class WatertightRayOnEntering {
+ public:
+  [[gnu::always_inline]] auto maker(const Ray& ray, const TriangleSet& set) {
+    return [this, &ray, &set]() __attribute__((always_inline)) {
+      if (!set.fast) ray_[0] = WatertightRay::withoutBranches(ray);
+    };
+  }
+  const WatertightRay& get() const { return ray_[0]; }
+
+ private:
+  UninitializedArray<WatertightRay, 1> ray_;
+};
+
 // The same constants made at once, for walks whose rays nearly all reach a leaf (the oriented
 // layouts', behind their bounds gate), where the divisions then overlap the first node tests.
 [[gnu::always_inline]] inline WatertightRay watertightRayFor(const Ray& ray, const TriangleSet& set) {

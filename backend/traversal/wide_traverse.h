@@ -241,22 +241,25 @@ struct AxisAlignedWideNodes {
 };
 
 // Visits the leaves the ray enters from node start (a packet hands a ray over to it mid-tree);
-// see walkWideTree (kPredictLanes: for rays the application declared coherent, QueryState).
+// see walkWideTree (kPredictLanes: for rays the application declared coherent, QueryState;
+// onEntering: the leaves' set-up, once the ray is known to enter the tree).
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
-          typename LeafVisitor>
+          typename LeafVisitor, typename OnEntering = NothingOnEntering>
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
-                                                  LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
+                                                  LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr,
+                                                  OnEntering&& onEntering = {}) {
   switch (nodeTestFormOf(frame)) {
     case NodeTestForm::kBits:
       return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kBits>{bvh, frame}, start, ray, leafVisitor, counters);
+          AxisAlignedWideNodes<FN, NodeTestForm::kBits>{bvh, frame}, start, ray, leafVisitor, counters, onEntering);
     case NodeTestForm::kBitsZeroAxes:
       return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kBitsZeroAxes>{bvh, frame}, start, ray, leafVisitor, counters);
+          AxisAlignedWideNodes<FN, NodeTestForm::kBitsZeroAxes>{bvh, frame}, start, ray, leafVisitor, counters,
+          onEntering);
     case NodeTestForm::kFloat:
       return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kFloat>{bvh, frame}, start, ray, leafVisitor, counters);
+          AxisAlignedWideNodes<FN, NodeTestForm::kFloat>{bvh, frame}, start, ray, leafVisitor, counters, onEntering);
   }
 }
 
@@ -264,13 +267,15 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
 // took a second prologue, and the leaf visitor's captures went through a closure in memory; miss
 // rays, which spend their time in such fixed costs, traced 8% faster inlined (bunny primary rays).
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
-          typename LeafVisitor>
+          typename LeafVisitor, typename OnEntering = NothingOnEntering>
 [[gnu::always_inline]] inline void traverseWide(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray,
-                                                LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr) {
+                                                LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr,
+                                                OnEntering&& onEntering = {}) {
   using Node = WideNode<FN::kWidth>;
   if (bvh.empty()) return;
   if (Node::isLeaf(bvh.root)) {
     if constexpr (kCounted) ++counters->leafVisits;
+    onEntering();
     leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root));
     return;
   }
@@ -278,7 +283,7 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
   // benchmark's shadow rays from primary rays that missed are such rays (tfar < tnear).
   if (ray.tnear > ray.tfar) return;
   traverseWideFrom<FN, kClosest, kCounted, kSorted, kPredictLanes>(bvh, bvh.root, WideRayFrame<FN>(ray), ray,
-                                                                   leafVisitor, counters);
+                                                                   leafVisitor, counters, onEntering);
 }
 
 // kSorted: children near to far, else in lane order (ChildOrder). kPredictLanes: the walk for rays
@@ -289,26 +294,26 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
 // shadow rays measured 0.99-1.03x).
 template <typename FN, typename F4, bool kCounted = false, bool kSorted = true, bool kPredictLanes = false>
 bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray, Hit& hit, const QueryState& state) {
-  WatertightRayOnDemand watertight;
+  WatertightRayOnEntering watertight;
   bool found = false;
   traverseWide<FN, true, kCounted, kSorted, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount)
                                                                            __attribute__((always_inline)) {
     found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                               watertight.of(ray, bvh.set), ray, hit, state);
+                                                               watertight.get(), ray, hit, state);
     return false;
-  }, state.counters);
+  }, state.counters, watertight.maker(ray, bvh.set));
   return found;
 }
 
 template <typename FN, typename F4, bool kCounted = false, bool kPredictLanes = false>
 bool intersectAnyWideImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray, const QueryState& state) {
-  WatertightRayOnDemand watertight;
+  WatertightRayOnEntering watertight;
   bool found = false;
   traverseWide<FN, false, kCounted, false, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount) {
     found = intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                          watertight.of(ray, bvh.set), ray, state);
+                                                          watertight.get(), ray, state);
     return found;
-  }, state.counters);
+  }, state.counters, watertight.maker(ray, bvh.set));
   return found;
 }
 

@@ -57,6 +57,75 @@ template <int N>
   return child[3];
 }
 
+// The child a node's walk goes to next, of the entered children `mask` (two or more bits set: the
+// caller takes a single child itself) with their entry distances; the others are pushed, farthest
+// first. See walkWideTree for the template parameters.
+template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes, typename Stack>
+[[gnu::always_inline]] inline uint32_t childAfterPushingOthers(const Nodes& nodes, const uint32_t* child, int mask,
+                                                               const float entry[N], Stack* stack, int& top) {
+  if (!kSorted && !kClosest) {
+    const int first = __builtin_ctz(unsigned(mask));
+    const uint32_t next = kPredictLanes ? childOfPredictedLane<N>(child, first) : child[first];
+    mask &= mask - 1;
+    while (mask) {
+      const int lane = __builtin_ctz(unsigned(mask));
+      mask &= mask - 1;
+      nodes.prefetch(child[lane]);
+      stack[top++] = {child[lane], entry[lane]};
+    }
+    return next;
+  }
+  if (!kSorted) {  // lane order: the lowest lane now, the others pushed highest first
+    const uint32_t next = child[__builtin_ctz(unsigned(mask))];
+    mask &= mask - 1;
+    while (mask) {
+      const int lane = 31 - __builtin_clz(unsigned(mask));
+      mask &= ~(1 << lane);
+      nodes.prefetch(child[lane]);
+      stack[top++] = {child[lane], entry[lane]};
+    }
+    return next;
+  }
+  // Two children, the most common case after one: the nearer is visited first (the lower lane
+  // on equal distances, as in the general sort below).
+  const int first = __builtin_ctz(unsigned(mask));
+  const int rest = mask & (mask - 1);
+  if ((rest & (rest - 1)) == 0) {
+    const int second = __builtin_ctz(unsigned(rest));
+    const bool firstNearer = entry[first] <= entry[second];
+    const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
+    // The predicted walk loads the child it guesses at once: its prefetch would only cost the
+    // instructions (bunny camera rays 2% faster without it, motorBike and dragon the same).
+    if constexpr (!kPredictLanes) nodes.prefetch(child[nearLane]);
+    nodes.prefetch(child[farLane]);
+    stack[top++] = {child[farLane], entry[farLane]};
+    return kPredictLanes ? childOfPredictedLane<N>(child, nearLane) : child[nearLane];
+  }
+  // Three or more: sorted near to far (lower lane first on equal distances) without branches
+  // (child_order.h); the farther ones pushed farthest first.
+  int64_t keys[8];
+  int n = 0;
+  while (mask) {
+    const int lane = __builtin_ctz(unsigned(mask));
+    mask &= mask - 1;
+    if constexpr (!kPredictLanes) nodes.prefetch(child[lane]);
+    keys[n++] = childOrderKey(entry[lane], lane);
+  }
+  sortChildOrderKeys(keys, n);
+  for (int k = n - 1; k >= 1; --k) {
+    const int lane = childOrderLane(keys[k]);
+    if constexpr (kPredictLanes) nodes.prefetch(child[lane]);  // all but the guessed nearest
+    stack[top++] = {child[lane], entry[lane]};
+  }
+  const int nearest = childOrderLane(keys[0]);
+  return kPredictLanes ? childOfPredictedLane<N>(child, nearest) : child[nearest];
+}
+
+// What a walk does once the ray is known to enter the tree: nothing by default.
+struct NothingOnEntering {
+  void operator()() const {}
+};
+
 // Visits the leaves the ray enters; leafVisitor(firstBlock, blockCount) returns true to stop.
 // kClosest: a closest-hit query, whose leaves shorten the ray (any-hit queries stop instead).
 // kSorted: the entered children of a node are visited near to far (closest hit's default); else in
@@ -66,12 +135,19 @@ template <int N>
 // visited next is read behind a branch on its lane (childOfPredictedLane), for rays that follow
 // the previous ray closely (ray_coherence.h) or that the application declared coherent; else by
 // its lane as an index.
+// onEntering() runs once, before the first leaf, as soon as the start node's test lets the ray in
+// (or before visiting a start node that is a leaf): the leaves' per-ray set-up made there overlaps
+// the next node tests, where made at the first leaf it waited on them, and it is still skipped by
+// rays that the start node's boxes turn away. The start node's test is peeled off the loop for it,
+// so no flag is tested per leaf (the flag of a set-up made at the first leaf, which leaf visit is a
+// ray's first being unpredictable, cost 0.63 mispredicted branches a diffuse bounce on the bunny).
 // Always inlined, so that the ray's per-layout data stays in registers (passed by reference to a
 // call it cost ~15 instructions a ray).
 template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPredictLanes = false, typename Nodes,
-          typename LeafVisitor>
+          typename LeafVisitor, typename OnEntering = NothingOnEntering>
 [[gnu::always_inline]] inline void walkWideTree(const Nodes& nodes, uint32_t start, const Ray& ray,
-                                                LeafVisitor&& leafVisitor, TraversalCounters* counters) {
+                                                LeafVisitor&& leafVisitor, TraversalCounters* counters,
+                                                OnEntering&& onEntering = {}) {
   using Codes = WideNode<N>;
   // Once a closest-hit query has a hit (tfar shrank), a volume entered exactly at tfar can only add
   // hits at that same distance: an equally valid answer, not a closer one. Skipping such volumes
@@ -92,6 +168,21 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
   // (a third of the time of a ray missing the scene before StackEntry existed).
   if (ray.tnear > limit) return;
   uint32_t current = start;
+  if (!Codes::isLeaf(current)) {
+    if constexpr (kCounted) nodes.count(current, *counters);
+    const uint32_t* child = nodes.children(current);
+    const int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
+    if (mask == 0) return;
+    onEntering();
+    if ((mask & (mask - 1)) == 0) {
+      const int lane = __builtin_ctz(unsigned(mask));
+      current = kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
+    } else {
+      current = childAfterPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
+    }
+  } else {
+    onEntering();
+  }
   for (;;) {
     for (;;) {
       if (Codes::isLeaf(current)) {
@@ -102,70 +193,14 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
       }
       if constexpr (kCounted) nodes.count(current, *counters);
       const uint32_t* child = nodes.children(current);
-      int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
+      const int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
         const int lane = __builtin_ctz(unsigned(mask));
         current = kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
         continue;
       }
-      if (!kSorted && !kClosest) {
-        const int first = __builtin_ctz(unsigned(mask));
-        current = kPredictLanes ? childOfPredictedLane<N>(child, first) : child[first];
-        mask &= mask - 1;
-        while (mask) {
-          const int lane = __builtin_ctz(unsigned(mask));
-          mask &= mask - 1;
-          nodes.prefetch(child[lane]);
-          stack[top++] = {child[lane], entry[lane]};
-        }
-        continue;
-      }
-      if (!kSorted) {  // lane order: the lowest lane now, the others pushed highest first
-        current = child[__builtin_ctz(unsigned(mask))];
-        mask &= mask - 1;
-        while (mask) {
-          const int lane = 31 - __builtin_clz(unsigned(mask));
-          mask &= ~(1 << lane);
-          nodes.prefetch(child[lane]);
-          stack[top++] = {child[lane], entry[lane]};
-        }
-        continue;
-      }
-      // Two children, the most common case after one: the nearer is visited first (the lower lane
-      // on equal distances, as in the general sort below).
-      const int first = __builtin_ctz(unsigned(mask));
-      const int rest = mask & (mask - 1);
-      if ((rest & (rest - 1)) == 0) {
-        const int second = __builtin_ctz(unsigned(rest));
-        const bool firstNearer = entry[first] <= entry[second];
-        const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
-        // The predicted walk loads the child it guesses at once: its prefetch would only cost the
-        // instructions (bunny camera rays 2% faster without it, motorBike and dragon the same).
-        if constexpr (!kPredictLanes) nodes.prefetch(child[nearLane]);
-        nodes.prefetch(child[farLane]);
-        stack[top++] = {child[farLane], entry[farLane]};
-        current = kPredictLanes ? childOfPredictedLane<N>(child, nearLane) : child[nearLane];
-        continue;
-      }
-      // Three or more: sorted near to far (lower lane first on equal distances) without branches
-      // (child_order.h); the farther ones pushed farthest first.
-      int64_t keys[8];
-      int n = 0;
-      while (mask) {
-        const int lane = __builtin_ctz(unsigned(mask));
-        mask &= mask - 1;
-        if constexpr (!kPredictLanes) nodes.prefetch(child[lane]);
-        keys[n++] = childOrderKey(entry[lane], lane);
-      }
-      sortChildOrderKeys(keys, n);
-      for (int k = n - 1; k >= 1; --k) {
-        const int lane = childOrderLane(keys[k]);
-        if constexpr (kPredictLanes) nodes.prefetch(child[lane]);  // all but the guessed nearest
-        stack[top++] = {child[lane], entry[lane]};
-      }
-      const int nearest = childOrderLane(keys[0]);
-      current = kPredictLanes ? childOfPredictedLane<N>(child, nearest) : child[nearest];
+      current = childAfterPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
     }
     for (;;) {
       if (top == 0) return;
