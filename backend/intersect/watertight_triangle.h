@@ -33,9 +33,7 @@ struct WatertightRay {
       kx = ky;
       ky = t;
     }
-    Sx = ray.dir[kx] / ray.dir[kz];
-    Sy = ray.dir[ky] / ray.dir[kz];
-    Sz = 1.f / ray.dir[kz];
+    shearAlongAxes(ray);
   }
 
   // The same constants with the axes chosen by arithmetic on the comparisons instead of branches:
@@ -57,10 +55,16 @@ struct WatertightRay {
     const int swap = -int(ray.dir[w.kz] < 0.f), differ = (w.kx ^ w.ky) & swap;
     w.kx ^= differ;
     w.ky ^= differ;
-    w.Sx = ray.dir[w.kx] / ray.dir[w.kz];
-    w.Sy = ray.dir[w.ky] / ray.dir[w.kz];
-    w.Sz = 1.f / ray.dir[w.kz];
+    w.shearAlongAxes(ray);
     return w;
+  }
+
+ private:
+  // The shear constants for the axis order (kx, ky, kz) already chosen.
+  [[gnu::always_inline]] void shearAlongAxes(const Ray& ray) {
+    Sx = ray.dir[kx] / ray.dir[kz];
+    Sy = ray.dir[ky] / ray.dir[kz];
+    Sz = 1.f / ray.dir[kz];
   }
 };
 

@@ -57,12 +57,16 @@ template <int N>
   return child[3];
 }
 
-// The child a node's walk goes to next, of the entered children `mask` (two or more bits set: the
-// caller takes a single child itself) with their entry distances; the others are pushed, farthest
-// first. See walkWideTree for the template parameters.
+// The child a node's walk goes to next, of the entered children `mask` (not empty) with their
+// entry distances; the others are pushed, farthest first. See walkWideTree for the template
+// parameters.
 template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes, typename Stack>
-[[gnu::always_inline]] inline uint32_t childAfterPushingOthers(const Nodes& nodes, const uint32_t* child, int mask,
-                                                               const float entry[N], Stack* stack, int& top) {
+[[gnu::always_inline]] inline uint32_t nextChildPushingOthers(const Nodes& nodes, const uint32_t* child, int mask,
+                                                              const float entry[N], Stack* stack, int& top) {
+  if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
+    const int lane = __builtin_ctz(unsigned(mask));
+    return kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
+  }
   if (!kSorted && !kClosest) {
     const int first = __builtin_ctz(unsigned(mask));
     const uint32_t next = kPredictLanes ? childOfPredictedLane<N>(child, first) : child[first];
@@ -174,12 +178,7 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
     const int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
     if (mask == 0) return;
     onEntering();
-    if ((mask & (mask - 1)) == 0) {
-      const int lane = __builtin_ctz(unsigned(mask));
-      current = kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
-    } else {
-      current = childAfterPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
-    }
+    current = nextChildPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
   } else {
     onEntering();
   }
@@ -195,12 +194,7 @@ template <int N, bool kClosest, bool kCounted, bool kSorted = kClosest, bool kPr
       const uint32_t* child = nodes.children(current);
       const int mask = nodes.enter(current, ray.tnear, exitLimit, entry);
       if (mask == 0) break;
-      if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
-        const int lane = __builtin_ctz(unsigned(mask));
-        current = kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
-        continue;
-      }
-      current = childAfterPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
+      current = nextChildPushingOthers<N, kClosest, kSorted, kPredictLanes>(nodes, child, mask, entry, stack, top);
     }
     for (;;) {
       if (top == 0) return;
