@@ -30,6 +30,7 @@
 #include "ray_generation.h"
 #include "rtc_library.h"
 #include "scene_data.h"
+#include "scene_memory.h"
 #include "trace_timing.h"
 
 using namespace obvh::tools;
@@ -131,6 +132,7 @@ struct LibraryRun {
   double refitMs = 0;
   double lowBuildMs = 0;
   double sah = 0;               // as the library's verbose=2 statistics report it
+  SceneMemory memory;           // of the traced scene's build quality
   std::vector<Result> results;  // one per workload, in table order
 };
 
@@ -323,6 +325,7 @@ int main(int argc, char** argv) {
       for (int r = 0; r < options.runs; ++r)
         lowTimes.push_back(millisecondsOf([&] { CommittedScene low(*run.lib, run.device, scene, RTC_SCENE_FLAG_NONE, RTC_BUILD_QUALITY_LOW); }));
       run.lowBuildMs = median(lowTimes);
+      run.memory = measureSceneMemory(*run.lib, run.config, scene, options.quality);
     }
 
     RTCBounds bounds;
@@ -380,6 +383,10 @@ int main(int argc, char** argv) {
     printRow("SAH cost (verbose=2 statistics)", runs[0].sah, runs[1].sah, runs[2].sah, true);
     printRow("build ms, RTC_BUILD_QUALITY_LOW", runs[0].lowBuildMs, runs[1].lowBuildMs, runs[2].lowBuildMs, true);
     printRow("refit ms (RTC_BUILD_QUALITY_REFIT)", runs[0].refitMs, runs[1].refitMs, runs[2].refitMs, true);
+    // Geometry buffers included (the same bytes in both libraries); "speed" here is Embree / obvh. No
+    // peak row: obvh reports its finished structure, not its build's temporary memory.
+    printRow("memory MB held after commit (memory monitor)", runs[0].memory.heldMegabytes,
+             runs[1].memory.heldMegabytes, runs[2].memory.heldMegabytes, true);
     for (size_t k = 0; k < workloads.size(); ++k)
       printRow((std::string(workloads[k].name) + " Mrays/s").c_str(), runs[0].results[k].mrays,
                runs[1].results[k].mrays, runs[2].results[k].mrays, false);
