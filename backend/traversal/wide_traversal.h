@@ -3,6 +3,8 @@
 // Every kernel also exists as a scalar reference; a CPU check picks the best one at run time.
 #pragma once
 
+#include <limits>
+
 #include "builders/build_options.h"
 #include "bvh/wide_bvh.h"
 #include "traversal/triangle_leaf.h"
@@ -20,6 +22,12 @@ struct TriangleWideView {
   TriangleSet set;
   const WideKernels<N>* kernels = nullptr;  // the CPU's best, chosen once per view, not per query
   float extent = 0.f;  // the largest side of the root node's box (packets judge their rays' spread by it)
+  // The box around the root node's children (x, y, z, then a lane that admits every ray): single
+  // rays that miss it are turned away before the node test's set-up (missesRootBox). The defaults
+  // admit every ray.
+  alignas(16) float rootLower[4] = {-kInfinity, -kInfinity, -kInfinity, -kInfinity};
+  alignas(16) float rootUpper[4] = {kInfinity, kInfinity, kInfinity, kInfinity};
+  static constexpr float kInfinity = std::numeric_limits<float>::infinity();
   bool empty() const { return root == WideNode<N>::kEmptyChild; }
 };
 
@@ -67,8 +75,16 @@ const WideKernels<N>& wideKernels(KernelIsa isa, ChildOrder order = ChildOrder::
 template <int N>
 TriangleWideView<N> makeWideView(const WideBvh<N>& bvh, const TriangleSet& set,
                                  ChildOrder order = ChildOrder::NearToFar) {
-  return {bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set, &wideKernels<N>(bestKernelIsa(N), order),
-          bvh.rootNodeBox().largestSide()};
+  const Box3f rootBox = bvh.rootNodeBox();
+  TriangleWideView<N> view{bvh.nodes.data(), bvh.blocks.data(), bvh.rootChild, set,
+                           &wideKernels<N>(bestKernelIsa(N), order), rootBox.largestSide()};
+  if (!bvh.empty() && !WideNode<N>::isLeaf(bvh.rootChild)) {
+    for (int axis = 0; axis < 3; ++axis) {
+      view.rootLower[axis] = rootBox.lower[axis];
+      view.rootUpper[axis] = rootBox.upper[axis];
+    }
+  }
+  return view;
 }
 
 // Both count into state.counters when it is set, and take the coherent walk when state.coherent

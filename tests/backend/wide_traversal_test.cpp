@@ -16,7 +16,9 @@
 #include "backend_mesh_desc.h"
 #include "test_scenes.h"
 #include "traversal/bvh2_traversal.h"
+#include "simd/float_scalar.h"
 #include "traversal/wide_traversal.h"
+#include "traversal/wide_traverse.h"
 
 namespace obvh {
 namespace {
@@ -525,6 +527,61 @@ TEST(WideBvh, CountedKernelsAnswerTheSame) {
 TEST(WideBvh, NanRaysHitNothing) {
   expectNanRaysHitNothing<4>();
   expectNanRaysHitNothing<8>();
+}
+
+// The closest-hit kernels' root-box check (missesRootBox) turns a ray away only where the root
+// node's own test (the integer form, with the scalar reference lanes) enters none of its children:
+// rays from around the scene aimed at points of the box's faces, edges and corners, exactly on them
+// and a float to either side, where the children's boxes touch the root box. Both answers occur.
+template <int N>
+void expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes() {
+  using FN = simd::FloatScalar<N>;
+  Layouts<N> l(test::randomTriangleSoup(3000, 4), 4);
+  const Box3f box = l.wide.rootNodeBox();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  std::uniform_int_distribution<int> side(0, 2), nudge(-1, 1);
+  int turnedAway = 0, admitted = 0;
+  for (int i = 0; i < 100000; ++i) {
+    Vec3f target, org;
+    for (int a = 0; a < 3; ++a) {
+      const float lo = box.lower[a], hi = box.upper[a], span = hi - lo;
+      // On the lower or upper plane, or anywhere between; then maybe a float off it.
+      const int where = side(rng);
+      float x = where == 0 ? lo : where == 1 ? hi : lo + unit(rng) * span;
+      const int step = nudge(rng);
+      if (step != 0) x = std::nextafter(x, step > 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
+      target[a] = x;
+      org[a] = lo - span + 3.f * span * unit(rng);
+    }
+    Ray ray;
+    ray.org = org;
+    ray.dir = target - org;
+    ray.tnear = 0.f;
+    ray.tfar = i % 3 == 0 ? 1.f : std::numeric_limits<float>::infinity();
+    const bool misses = missesRootBox<FN>(l.view, ray);
+    const WideRayFrame<FN> frame(ray);
+    if (nodeTestFormOf(frame) != NodeTestForm::kBits) {
+      EXPECT_FALSE(misses);
+      continue;
+    }
+    float entry[N];
+    const int entered = intersectWideNode<NodeTestForm::kBits>(
+        l.wide.nodes[l.wide.rootChild], frame, exitLimitLanes<NodeTestForm::kBits, FN>(ray.tfar), entry);
+    if (misses) {
+      ASSERT_EQ(entered, 0) << "ray " << i;
+      ++turnedAway;
+    } else {
+      ++admitted;
+    }
+  }
+  EXPECT_GT(turnedAway, 1000);
+  EXPECT_GT(admitted, 1000);
+}
+
+TEST(WideBvh, RootBoxTurnsAwayOnlyWhatTheRootNodeDoes) {
+  expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes<4>();
+  expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes<8>();
 }
 
 }  // namespace
