@@ -122,17 +122,20 @@ NodeTestForm nodeTestFormOf(const WideRayFrame<FN>& frame) {
   return frame.zeroAxes != 0 ? NodeTestForm::kBitsZeroAxes : NodeTestForm::kBits;
 }
 
-// tfar as intersectWideNode's form kForm takes it: broadcast, and for the integer forms with
-// kConservativeFarUlps taken off its bits, or the smallest integer (a NaN's bits) for a negative
-// tfar, which no entry distance lies below.
+// tfar as the integer forms take it: kConservativeFarUlps taken off its bits, or the smallest
+// integer (a NaN's bits) for a negative tfar, which no entry distance lies below.
+inline int32_t exitLimitBits(float tfar) {
+  int32_t bits;
+  std::memcpy(&bits, &tfar, sizeof bits);
+  return bits < 0 ? std::numeric_limits<int32_t>::min() : bits - kConservativeFarUlps;
+}
+// tfar as intersectWideNode's form kForm takes it, broadcast (exitLimitBits for the integer forms).
 template <NodeTestForm kForm, typename FN>
 FN exitLimitLanes(float tfar) {
   if constexpr (kForm == NodeTestForm::kFloat) {
     return FN::broadcast(tfar);
   } else {
-    int32_t bits;
-    std::memcpy(&bits, &tfar, sizeof bits);
-    bits = bits < 0 ? std::numeric_limits<int32_t>::min() : bits - kConservativeFarUlps;
+    const int32_t bits = exitLimitBits(tfar);
     float lowered;
     std::memcpy(&lowered, &bits, sizeof lowered);
     return FN::broadcast(lowered);
@@ -169,12 +172,10 @@ template <typename FN>
   const float nearT = std::max(std::max(ray.tnear, entries[0]), std::max(entries[1], entries[2]));
   const float farT = std::min(std::min(exits[0], exits[1]), exits[2]);
   // intersectWideNode's integer test: min(exit, tfar - k) > near - (k + 1), on the bits.
-  int32_t nearBits, farBits, tfarBits;
+  int32_t nearBits, farBits;
   std::memcpy(&nearBits, &nearT, sizeof nearBits);
   std::memcpy(&farBits, &farT, sizeof farBits);
-  std::memcpy(&tfarBits, &ray.tfar, sizeof tfarBits);
-  const int32_t limitBits = tfarBits < 0 ? std::numeric_limits<int32_t>::min() : tfarBits - kConservativeFarUlps;
-  return !(std::min(farBits, limitBits) > nearBits - (kConservativeFarUlps + 1));
+  return !(std::min(farBits, exitLimitBits(ray.tfar)) > nearBits - (kConservativeFarUlps + 1));
 }
 
 // Tests the node's child boxes; returns a bit mask of the entered ones and their entry distances.
