@@ -51,6 +51,7 @@ struct Float4Sse {
   friend Float4Sse operator/(Float4Sse a, Float4Sse b) { return {_mm_div_ps(a.v, b.v)}; }
   friend Float4Sse min(Float4Sse a, Float4Sse b) { return {_mm_min_ps(a.v, b.v)}; }
   friend Float4Sse max(Float4Sse a, Float4Sse b) { return {_mm_max_ps(a.v, b.v)}; }
+  friend Float4Sse abs(Float4Sse a) { return {_mm_andnot_ps(_mm_set1_ps(-0.f), a.v)}; }
   // See FloatScalar::replaceNaN.
   friend Float4Sse replaceNaN(Float4Sse a, Float4Sse b) {
     const __m128 nan = _mm_cmpunord_ps(a.v, a.v);

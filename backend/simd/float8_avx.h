@@ -46,6 +46,7 @@ struct Float8Avx {
   OBVH_AVX2 friend int lessEqualMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }
   OBVH_AVX2 friend int lessMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)); }
   OBVH_AVX2 friend int equalMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)); }
+  OBVH_AVX2 friend Float8Avx abs(Float8Avx a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.f), a.v)}; }
   OBVH_AVX2 friend int signMask(Float8Avx a) { return _mm256_movemask_ps(a.v); }
   // See FloatScalar::maxOfBits.
   OBVH_AVX2 friend Float8Avx maxOfBits(Float8Avx a, Float8Avx b) {

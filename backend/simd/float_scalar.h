@@ -75,6 +75,8 @@ struct FloatScalar {
   // minps/maxps return the second operand when either is NaN.
   friend FloatScalar min(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x < y ? x : y; }); }
   friend FloatScalar max(FloatScalar a, FloatScalar b) { return map(a, b, [](float x, float y) { return x > y ? x : y; }); }
+  // |a| lane by lane: the sign bit cleared (NaNs stay NaNs).
+  friend FloatScalar abs(FloatScalar a) { return map(a, a, [](float x, float) { return std::fabs(x); }); }
   // a, with its NaN lanes replaced by replacement's.
   friend FloatScalar replaceNaN(FloatScalar a, FloatScalar b) {
     return map(a, b, [](float x, float y) { return x != x ? y : x; });

@@ -344,8 +344,9 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
   bool found = false;
   traverseWide<FN, true, kCounted, kSorted, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount)
                                                                            __attribute__((always_inline)) {
-    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                               watertight.get(), ray, hit, state);
+    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>, !kPredictLanes>(bvh.set, bvh.blocks, firstBlock,
+                                                                                blockCount, watertight.get(), ray, hit,
+                                                                                state);
     return false;
   }, state.counters, watertight.maker(ray, bvh.set));
   return found;

@@ -3,9 +3,11 @@
 // lanes at once.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "math/float_steps.h"
@@ -136,6 +138,33 @@ TEST(TriangleBlockLeaf, SegmentEndsAnswerLikeTheScalarTest) {
   EXPECT_GT(hitsChecked, 500);
 }
 
+// The scalar watertight test's answers for the block's four triangles, lane by lane.
+std::vector<LaneAnswer> scalarTestAnswers(const StoredTriangle tris[4], const Ray& ray) {
+  const WatertightRay wr(ray);
+  std::vector<LaneAnswer> expected;
+  for (int lane = 0; lane < 4; ++lane) {
+    TriangleHit th;
+    if (intersectWatertight(wr, ray, tris[lane].v0, tris[lane].v1, tris[lane].v2, th)) expected.push_back({lane, th});
+  }
+  return expected;
+}
+
+// Every lane type's block test (scalar, SSE, and AVX where the CPU has it) answers as `expected`.
+void expectEveryLaneTypeAnswers(const TriangleBlock4& block, const Ray& ray, const std::vector<LaneAnswer>& expected,
+                                const std::string& context) {
+  std::vector<std::vector<LaneAnswer>> answers = {scalarLaneAnswers(block, ray), sseLaneAnswers(block, ray)};
+  if (simd::cpuHasAvx2()) answers.push_back(avxLaneAnswers(block, ray));
+  for (size_t kind = 0; kind < answers.size(); ++kind) {
+    ASSERT_EQ(answers[kind].size(), expected.size()) << "lane type " << kind << ", " << context;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(answers[kind][i].lane, expected[i].lane);
+      EXPECT_EQ(answers[kind][i].hit.t, expected[i].hit.t) << "lane type " << kind;
+      EXPECT_EQ(answers[kind][i].hit.u, expected[i].hit.u) << "lane type " << kind;
+      EXPECT_EQ(answers[kind][i].hit.v, expected[i].hit.v) << "lane type " << kind;
+    }
+  }
+}
+
 // The double-precision second half of four lanes at once (Double4Scalar, Double4Sse, Double4Avx)
 // answers each lane exactly as the scalar test answers its triangle: same lanes, t, u and v, on
 // blocks of four triangles near each other (a ray passes through several) near and far from the
@@ -143,7 +172,6 @@ TEST(TriangleBlockLeaf, SegmentEndsAnswerLikeTheScalarTest) {
 TEST(TriangleBlockLeaf, DoublePrecisionLanesAnswerLikeTheScalarTest) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<float> unit(0.f, 1.f);
-  const bool avx2 = simd::cpuHasAvx2();
   size_t lanesHit = 0, degenerateLanes = 0;
   for (float offset : {0.f, 10.f, 1e4f, 1e6f})
     for (float size : {1e-3f, 1.f, 100.f})
@@ -163,28 +191,111 @@ TEST(TriangleBlockLeaf, DoublePrecisionLanesAnswerLikeTheScalarTest) {
         ray.dir = randomUnit(rng);
         ray.org = center - ray.dir * (size * (1.f + 4.f * unit(rng))) + randomUnit(rng) * (0.3f * size);
         ray.tfar = std::numeric_limits<float>::infinity();
-        const WatertightRay wr(ray);
-        std::vector<LaneAnswer> expected;
-        for (int lane = 0; lane < 4; ++lane) {
-          TriangleHit th;
-          if (intersectWatertight(wr, ray, tris[lane].v0, tris[lane].v1, tris[lane].v2, th)) expected.push_back({lane, th});
-        }
+        const std::vector<LaneAnswer> expected = scalarTestAnswers(tris, ray);
         lanesHit += expected.size();
         for (const StoredTriangle& tri : tris) degenerateLanes += dot(cross(tri.v1 - tri.v0, tri.v2 - tri.v0), cross(tri.v1 - tri.v0, tri.v2 - tri.v0)) == 0.f;
-        std::vector<std::vector<LaneAnswer>> answers = {scalarLaneAnswers(block, ray), sseLaneAnswers(block, ray)};
-        if (avx2) answers.push_back(avxLaneAnswers(block, ray));
-        for (size_t kind = 0; kind < answers.size(); ++kind) {
-          ASSERT_EQ(answers[kind].size(), expected.size()) << "lane type " << kind << " offset " << offset << " size " << size;
-          for (size_t i = 0; i < expected.size(); ++i) {
-            EXPECT_EQ(answers[kind][i].lane, expected[i].lane);
-            EXPECT_EQ(answers[kind][i].hit.t, expected[i].hit.t) << "lane type " << kind;
-            EXPECT_EQ(answers[kind][i].hit.u, expected[i].hit.u) << "lane type " << kind;
-            EXPECT_EQ(answers[kind][i].hit.v, expected[i].hit.v) << "lane type " << kind;
-          }
-        }
+        expectEveryLaneTypeAnswers(block, ray, expected,
+                                   "offset " + std::to_string(offset) + " size " + std::to_string(size));
       }
   EXPECT_GT(lanesHit, 2000u);
   EXPECT_GT(degenerateLanes, 300u);
+}
+
+// Rays leaving surfaces (a secondary ray's start triangle, and its neighbours): lanes whose plane
+// the ray certainly crosses behind its origin are dropped in float (certainlyBehindLanes) before the
+// double-precision second half. Origins on the triangle and 1 to 256 ulps off it to either side,
+// directions leaving and entering, down to grazing, near and far from the coordinate origin, small
+// and large triangles: every dropped lane is one the scalar test rejects, every lane type answers as
+// the scalar test does, and the start triangle of a ray offset the way renderers offset it (256
+// ulps) is dropped where the triangle is small beside its distance from the coordinate origin, as
+// a mesh's triangles are (the bounds grow with the triangle's size, the offset with its position).
+TEST(TriangleBlockLeaf, LanesBehindTheOriginAreDroppedOnlyWhenTheScalarTestRejectsThem) {
+  std::mt19937 rng(4711);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  size_t dropped = 0, offsetStarts = 0, offsetStartsDropped = 0, compared = 0;
+  for (float offset : {0.f, 1.f, 100.f, 1e4f, 1e6f})
+    for (float relativeSize : {1e-4f, 1e-2f, 1.f})
+      for (int trial = 0; trial < 300; ++trial) {
+        const float size = relativeSize * std::max(offset, 1.f);
+        const Vec3f center = randomUnit(rng) * offset;
+        StoredTriangle tris[4];
+        // Lane `start` holds the start triangle; the others share its vertices (a fan around
+        // it, as a mesh's neighbours do) or lie near it.
+        const int start = trial % 4;
+        const Vec3f a = center + randomUnit(rng) * size, b = center + randomUnit(rng) * size,
+                    c = center + randomUnit(rng) * size;
+        tris[start].v0 = a, tris[start].v1 = b, tris[start].v2 = c;
+        for (int lane = 0; lane < 4; ++lane) {
+          if (lane == start) continue;
+          const Vec3f far = center + randomUnit(rng) * size;
+          if (lane % 2) tris[lane].v0 = b, tris[lane].v1 = a, tris[lane].v2 = far;  // across edge ab
+          else tris[lane].v0 = c, tris[lane].v1 = b, tris[lane].v2 = far;           // across edge bc
+        }
+        TriangleBlock4 block;
+        block.fill(tris, 4);
+        const Vec3f normal = cross(b - a, c - a);
+        const float normalLength = std::sqrt(dot(normal, normal));
+        if (!(normalLength > 0.f)) continue;
+        const Vec3f n = normal * (1.f / normalLength);
+        // A point on the triangle: inside, on an edge or at a vertex.
+        float w1 = unit(rng), w2 = unit(rng);
+        if (w1 + w2 > 1.f) w1 = 1.f - w1, w2 = 1.f - w2;
+        if (trial % 5 == 1) w2 = 0.f;
+        if (trial % 7 == 2) w1 = w2 = 0.f;
+        const Vec3f surfacePoint = a + (b - a) * w1 + (c - a) * w2;
+        const int ulpChoices[] = {0, 1, 4, 16, 256, -1, -16, -256};
+        const int ulps = ulpChoices[trial % 8];
+        Vec3f org;
+        for (int axis = 0; axis < 3; ++axis) {
+          float p = surfacePoint[axis];
+          const int steps = int(std::lround(float(ulps) * std::fabs(n[axis])));
+          const bool up = (n[axis] > 0.f) == (ulps > 0);
+          for (int k = 0; k < std::abs(steps); ++k) p = up ? std::nextafter(p, std::numeric_limits<float>::infinity()) : nextFloatDown(p);
+          (&org.x)[axis] = p;
+        }
+        // Leaving (along n) or entering, from straight out to grazing.
+        const float cosines[] = {1.f, 0.5f, 0.05f, 1e-3f, 1e-6f};
+        const float cosine = cosines[(trial / 8) % 5];
+        Vec3f side = cross(n, randomUnit(rng));
+        const float sideLength = std::sqrt(dot(side, side));
+        if (!(sideLength > 0.f)) continue;
+        side = side * (1.f / sideLength);
+        const float sine = std::sqrt(std::max(0.f, 1.f - cosine * cosine));
+        const bool leaving = (trial / 40) % 2 == 0;
+        Ray ray;
+        ray.org = org;
+        ray.dir = n * (leaving ? cosine : -cosine) + side * sine;
+        ray.tnear = (trial / 80) % 3 == 0 ? 0.f : (trial / 80) % 3 == 1 ? 1e-7f * size : 0x1p-149f;
+        ray.tfar = std::numeric_limits<float>::infinity();
+        const WatertightRay wr(ray);
+        const std::vector<LaneAnswer> expected = scalarTestAnswers(tris, ray);
+        for (int kind = 0; kind < 2; ++kind) {
+          const int kept = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, true).resolve
+                                     : watertightBlockCandidates<simd::Float4Sse>(block, wr, true).resolve;
+          const int all = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, false).resolve
+                                    : watertightBlockCandidates<simd::Float4Sse>(block, wr, false).resolve;
+          ASSERT_EQ(kept & ~all, 0);
+          for (int lane = 0; lane < 4; ++lane) {
+            if (!((all & ~kept) >> lane & 1)) continue;
+            dropped += kind == 0;
+            for (const LaneAnswer& answer : expected)
+              EXPECT_NE(answer.lane, lane) << "a lane the scalar test hits was dropped: offset " << offset << " size "
+                                           << size << " ulps " << ulps << " cosine " << cosine;
+          }
+          if (kind == 0 && ulps == 256 && leaving && cosine >= 0.05f && offset >= 1.f && relativeSize <= 1e-2f &&
+              ((all >> start) & 1)) {
+            ++offsetStarts;
+            offsetStartsDropped += (all & ~kept) >> start & 1;
+          }
+        }
+        expectEveryLaneTypeAnswers(block, ray, expected,
+                                   "offset " + std::to_string(offset) + " ulps " + std::to_string(ulps));
+        ++compared;
+      }
+  EXPECT_GT(compared, 4000u);
+  EXPECT_GT(dropped, 1000u);
+  ASSERT_GT(offsetStarts, 50u);
+  EXPECT_GE(double(offsetStartsDropped), 0.9 * double(offsetStarts)) << offsetStartsDropped << " of " << offsetStarts;
 }
 
 }  // namespace
