@@ -9,25 +9,37 @@
 namespace obvh::tools {
 namespace {
 
-std::vector<RTCRayHit> asRayHits(const std::vector<RTCRay>& rays) {
-  std::vector<RTCRayHit> out(rays.size());
+void asRayHits(const std::vector<RTCRay>& rays, std::vector<RTCRayHit>& out) {
+  out.resize(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
-    out[i].ray = rays[i];
-    out[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    out[i].hit.primID = RTC_INVALID_GEOMETRY_ID;
-    out[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh{};
+    rh.ray = rays[i];
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    out[i] = rh;
   }
-  return out;
 }
 
-// Runs query(context, item) over all items on all cores `runs` times; returns the median Mrays/s
-// (raysPerItem rays in each item).
-template <typename Item, typename Query>
-double timedRuns(std::vector<Item> items, int runs, std::vector<Item>* answers, Query query, size_t rayCount,
+// What a timed pass traces, written into memory this thread keeps for its later passes (one buffer
+// an item type): a new vector every pass, tens of megabytes, had the kernel fault in and clear its
+// pages again each time, which took about half of obvh_bench's wall time (system time, perf: 1.6
+// million page faults in one pass of every row on the bunny) outside the timed work.
+template <typename Item>
+std::vector<Item>& passItems() {
+  thread_local std::vector<Item> items;
+  return items;
+}
+
+// Runs query(context, item) over all items on all cores `runs` times, the items written afresh by
+// fill(items) before each run; returns the median Mrays/s (rayCount rays in all).
+template <typename Item, typename Fill, typename Query>
+double timedRuns(Fill&& fill, int runs, std::vector<Item>* answers, Query query, size_t rayCount,
                  RTCIntersectContextFlags contextFlags) {
   std::vector<double> rates;
+  std::vector<Item>& work = passItems<Item>();
   for (int r = 0; r < runs; ++r) {
-    std::vector<Item> work = items;
+    fill(work);
     const double ms = millisecondsOf([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 256), [&](const tbb::blocked_range<size_t>& b) {
         RTCIntersectContext context;
@@ -37,7 +49,7 @@ double timedRuns(std::vector<Item> items, int runs, std::vector<Item>* answers, 
       });
     });
     rates.push_back(double(rayCount) / (ms * 1e3));
-    if (r == 0 && answers) *answers = std::move(work);
+    if (r == 0 && answers) *answers = work;
   }
   return median(rates);
 }
@@ -56,8 +68,8 @@ void copyRayToLane(RTCRayN* n, const RTCRay& r, unsigned lane) {
   RTCRayN_mask(n, 8, lane) = r.mask, RTCRayN_id(n, 8, lane) = r.id, RTCRayN_flags(n, 8, lane) = r.flags;
 }
 
-std::vector<Packet8> packets8(const std::vector<RTCRay>& rays) {
-  std::vector<Packet8> packets((rays.size() + 7) / 8);
+void packets8(const std::vector<RTCRay>& rays, std::vector<Packet8>& packets) {
+  packets.assign((rays.size() + 7) / 8, Packet8{});
   for (size_t i = 0; i < packets.size() * 8; ++i) {
     Packet8& p = packets[i / 8];
     const unsigned lane = unsigned(i % 8);
@@ -69,7 +81,6 @@ std::vector<Packet8> packets8(const std::vector<RTCRay>& rays) {
     copyRayToLane(RTCRayHitN_RayN(n, 8), rh.ray, lane);
     rtcCopyHitToHitN(RTCRayHitN_HitN(n, 8), &rh.hit, 8, lane);
   }
-  return packets;
 }
 
 template <typename Out>
@@ -91,10 +102,9 @@ struct Stream {
 };
 
 template <typename RayType>
-std::vector<Stream<RayType>> streamsOf(const std::vector<RayType>& rays) {
-  std::vector<Stream<RayType>> streams((rays.size() + kStreamRays - 1) / kStreamRays);
+void streamsOf(const std::vector<RayType>& rays, std::vector<Stream<RayType>>& streams) {
+  streams.assign((rays.size() + kStreamRays - 1) / kStreamRays, Stream<RayType>{});
   for (size_t i = 0; i < rays.size(); ++i) streams[i / kStreamRays].rays[streams[i / kStreamRays].count++] = rays[i];
-  return streams;
 }
 
 template <typename RayType>
@@ -109,7 +119,7 @@ double streamRuns(const std::vector<RayType>& rays, int runs, std::vector<RayTyp
                   RTCIntersectContextFlags contextFlags, TraceStream traceStream) {
   std::vector<Stream<RayType>> first;
   const double rate = timedRuns(
-      streamsOf<RayType>(rays), runs, answers ? &first : nullptr,
+      [&](std::vector<Stream<RayType>>& items) { streamsOf(rays, items); }, runs, answers ? &first : nullptr,
       [&](RTCIntersectContext* context, Stream<RayType>* s) { traceStream(context, s->rays, s->count); }, rays.size(),
       contextFlags);
   if (answers) unpackStreams(first, *answers);
@@ -129,7 +139,7 @@ double traceIntersectMrays(const RtcLibrary& lib, RTCScene scene, const std::vec
                            std::vector<RTCRayHit>* answers,
                            RTCIntersectContextFlags contextFlags) {
   return timedRuns(
-      asRayHits(rays), runs, answers,
+      [&](std::vector<RTCRayHit>& items) { asRayHits(rays, items); }, runs, answers,
       [&](RTCIntersectContext* context, RTCRayHit* rayhit) { lib.rtcIntersect1(scene, context, rayhit); }, rays.size(),
       contextFlags);
 }
@@ -138,8 +148,9 @@ double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vect
                           std::vector<RTCRay>* answers,
                           RTCIntersectContextFlags contextFlags) {
   return timedRuns(
-      rays, runs, answers, [&](RTCIntersectContext* context, RTCRay* ray) { lib.rtcOccluded1(scene, context, ray); },
-      rays.size(), contextFlags);
+      [&](std::vector<RTCRay>& items) { items.assign(rays.begin(), rays.end()); }, runs, answers,
+      [&](RTCIntersectContext* context, RTCRay* ray) { lib.rtcOccluded1(scene, context, ray); }, rays.size(),
+      contextFlags);
 }
 
 double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
@@ -147,7 +158,7 @@ double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::ve
                             RTCIntersectContextFlags contextFlags) {
   std::vector<Packet8> first;
   const double rate = timedRuns(
-      packets8(rays), runs, answers ? &first : nullptr,
+      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
       [&](RTCIntersectContext* context, Packet8* p) { lib.rtcIntersect8(p->valid, scene, context, &p->rayhit); },
       rays.size(), contextFlags);
   if (answers) unpack8(first, rays.size(), *answers);
@@ -159,7 +170,7 @@ double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vec
                            RTCIntersectContextFlags contextFlags) {
   std::vector<Packet8> first;
   const double rate = timedRuns(
-      packets8(rays), runs, answers ? &first : nullptr,
+      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
       [&](RTCIntersectContext* context, Packet8* p) { lib.rtcOccluded8(p->valid, scene, context, &p->rayhit.ray); },
       rays.size(), contextFlags);
   if (answers) unpack8(first, rays.size(), *answers);
@@ -169,7 +180,9 @@ double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vec
 double traceIntersect1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                              std::vector<RTCRayHit>* answers,
                              RTCIntersectContextFlags contextFlags) {
-  return streamRuns(asRayHits(rays), runs, answers, contextFlags,
+  std::vector<RTCRayHit>& rayHits = passItems<RTCRayHit>();  // free here: the passes trace streams
+  asRayHits(rays, rayHits);
+  return streamRuns(rayHits, runs, answers, contextFlags,
                     [&](RTCIntersectContext* context, RTCRayHit* first, unsigned count) {
                       lib.rtcIntersect1M(scene, context, first, count, sizeof(RTCRayHit));
                     });
