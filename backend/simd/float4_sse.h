@@ -80,6 +80,12 @@ struct Float4Sse {
   friend int bitsGreaterMask(Float4Sse a, Float4Sse b) {
     return _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v))));
   }
+  // See FloatScalar::minOfEachRow: rows paired lane by lane, then the pairs' halves.
+  static Float4Sse minOfEachRow(const Float4Sse rows[4]) {
+    const __m128 r01 = _mm_min_ps(_mm_unpacklo_ps(rows[0].v, rows[1].v), _mm_unpackhi_ps(rows[0].v, rows[1].v));
+    const __m128 r23 = _mm_min_ps(_mm_unpacklo_ps(rows[2].v, rows[3].v), _mm_unpackhi_ps(rows[2].v, rows[3].v));
+    return {_mm_min_ps(_mm_movelh_ps(r01, r23), _mm_movehl_ps(r23, r01))};
+  }
   // See FloatScalar::minOfLanes.
   friend float minOfLanes(Float4Sse a, int mask) {
     const __m128 x = select(mask, a, Float4Sse{_mm_set1_ps(__builtin_inff())}).v;

@@ -95,6 +95,19 @@ struct Float8Avx {
     const __m256i in = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(mask), bits), bits);
     return {_mm256_blendv_ps(b.v, a.v, _mm256_castsi256_ps(in))};
   }
+  // See FloatScalar::minOfEachRow: as Float4Sse's within each 128-bit half, then the halves'
+  // results of rows 0-3 and 4-7 exchanged and combined.
+  OBVH_AVX2 static Float8Avx minOfEachRow(const Float8Avx rows[8]) {
+    __m256 pairs[4];
+    for (int i = 0; i < 4; ++i)
+      pairs[i] = _mm256_min_ps(_mm256_unpacklo_ps(rows[2 * i].v, rows[2 * i + 1].v),
+                               _mm256_unpackhi_ps(rows[2 * i].v, rows[2 * i + 1].v));
+    const __m256 low = _mm256_min_ps(_mm256_shuffle_ps(pairs[0], pairs[1], _MM_SHUFFLE(1, 0, 1, 0)),
+                                     _mm256_shuffle_ps(pairs[0], pairs[1], _MM_SHUFFLE(3, 2, 3, 2)));
+    const __m256 high = _mm256_min_ps(_mm256_shuffle_ps(pairs[2], pairs[3], _MM_SHUFFLE(1, 0, 1, 0)),
+                                      _mm256_shuffle_ps(pairs[2], pairs[3], _MM_SHUFFLE(3, 2, 3, 2)));
+    return {_mm256_min_ps(_mm256_permute2f128_ps(low, high, 0x20), _mm256_permute2f128_ps(low, high, 0x31))};
+  }
   // See FloatScalar::minOfLanes.
   OBVH_AVX2 friend float minOfLanes(Float8Avx a, int mask) {
     const __m256 x = select(mask, a, Float8Avx{_mm256_set1_ps(__builtin_inff())}).v;

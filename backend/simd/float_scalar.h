@@ -131,6 +131,14 @@ struct FloatScalar {
   friend int bitsGreaterMask(FloatScalar a, FloatScalar b) {
     return maskOf(a, b, [](float x, float y) { return bitsOf(x) > bitsOf(y); });
   }
+  // Lane i the smallest lane of rows[i], for N rows at once (a reduction of N vectors into one, as
+  // a transposition would pair them up); the rows must hold no NaN (the SIMD versions may then
+  // differ only in the sign of a zero).
+  static FloatScalar minOfEachRow(const FloatScalar rows[N]) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = *std::min_element(rows[i].v, rows[i].v + N);
+    return r;
+  }
   // The smallest of the lanes whose bit is set in mask, +inf when none is; those lanes must not be
   // NaN (the SIMD versions may then differ only in the sign of a zero).
   friend float minOfLanes(FloatScalar a, int mask) {
