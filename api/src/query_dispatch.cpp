@@ -137,7 +137,7 @@ uint32_t gatherLiveLanesByFours(const int* valid, RTCRayN* rayN, unsigned N, uns
 
 // gatherLiveLanesByFours for lanes in eights (rtcIntersect8/16, rtcOccluded8/16 on CPUs with AVX2):
 // the eight leading rows transposed are the first 32 bytes of eight Rays, one store each. A
-// coherent rtcIntersect8 packet on the bunny took 200 instructions to convert in fours, 105 so
+// coherent rtcIntersect8 packet on the bunny took 200 instructions to convert in fours, 122 so
 // (callgrind). Packets of four keep the four-lane version, which the tests thus still exercise.
 __attribute__((target("avx2"))) uint32_t gatherLiveLanesByEights(const int* valid, RTCRayN* rayN, unsigned N,
                                                                  unsigned first, unsigned count, bool masksOn,

@@ -1,5 +1,6 @@
 // rtcIntersect4/8/16 and rtcOccluded4/8/16 take each lane's ray from Embree's SOA layout four lanes
-// at a time. Every field must reach its own lane: each lane of a packet answers as the same ray
+// at a time (eight with AVX2, for packets of 8 and 16), and write hits back eight at a time on such
+// CPUs. Every field must reach its own lane: each lane of a packet answers as the same ray
 // through rtcIntersect1 / rtcOccluded1, with its own mask (ray masks on and off), time, segment
 // and validity, and inactive lanes stay untouched. Streams of single rays declared coherent
 // (rtcIntersect1M/1Mp, rtcOccluded1M/1Mp) are traced as packets of consecutive rays: each ray must
