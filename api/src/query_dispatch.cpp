@@ -192,11 +192,20 @@ uint32_t gatherLiveLanesOneByOne(const int* valid, RTCRayN* rayN, unsigned N, un
   return live;
 }
 
+#ifdef __SSE2__
+// Whether [first, first + count) goes in groups of eight lanes: both the gather and the write-back
+// take this one decision, since the write-back in eights reads the tfar of every ray of a group,
+// which only the gather in eights writes.
+inline bool lanesGoInEights(unsigned count) {
+  static const bool cpuHasAvx2 = simd::cpuHasAvx2();
+  return count % 8 == 0 && cpuHasAvx2;
+}
+#endif
+
 inline uint32_t gatherLiveLanes(const int* valid, RTCRayN* rayN, unsigned N, unsigned first, unsigned count,
                                 bool masksOn, Ray* rays) {
 #ifdef __SSE2__
-  static const bool cpuHasAvx2 = simd::cpuHasAvx2();
-  if (count % 8 == 0 && cpuHasAvx2) return gatherLiveLanesByEights(valid, rayN, N, first, count, masksOn, rays);
+  if (lanesGoInEights(count)) return gatherLiveLanesByEights(valid, rayN, N, first, count, masksOn, rays);
   if (count % 4 == 0) return gatherLiveLanesByFours(valid, rayN, N, first, count, masksOn, rays);
 #endif
   return gatherLiveLanesOneByOne(valid, rayN, N, first, count, masksOn, rays);
@@ -255,8 +264,7 @@ __attribute__((target("avx2"))) void writeFoundLanesByEights(uint32_t found, con
 inline void writeFoundLanes(uint32_t found, const Ray* rays, const Hit* hits, RTCRayN* rayN, RTCHitN* hitN,
                             unsigned N, unsigned first, unsigned count) {
 #ifdef __SSE2__
-  static const bool cpuHasAvx2 = simd::cpuHasAvx2();
-  if (count % 8 == 0 && cpuHasAvx2) return writeFoundLanesByEights(found, rays, hits, rayN, hitN, N, first, count);
+  if (lanesGoInEights(count)) return writeFoundLanesByEights(found, rays, hits, rayN, hitN, N, first, count);
 #endif
   writeFoundLanesOneByOne(found, rays, hits, rayN, hitN, N, first);
 }
