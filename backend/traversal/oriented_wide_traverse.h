@@ -106,6 +106,7 @@ struct OrientedWideNodes {
   const OrientedWideBvh<FN::kWidth>& bvh;
   const OrientedWideRay<FN>& ray;
   const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  static constexpr bool kEntriesNonNegative = false;
   float exitLimit(float tfar) const { return tfar; }
   [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
     return enterOrientedChildren(bvh.nodes[node], ray, tnear, tfar, entry);
@@ -139,6 +140,7 @@ struct PaletteWideNodes {
   const OrientedWideRay<FN>& ray;
   const PaletteRay<FN>& inPalette;
   const uint32_t* children(uint32_t node) const { return bvh.nodes[node].child; }
+  static constexpr bool kEntriesNonNegative = false;
   float exitLimit(float tfar) const { return tfar; }
   [[gnu::always_inline]] int enter(uint32_t node, float tnear, float tfar, float entry[FN::kWidth]) const {
     const OrientedWideNode<FN::kWidth>& n = bvh.nodes[node];

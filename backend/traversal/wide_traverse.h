@@ -270,6 +270,8 @@ struct AxisAlignedWideNodes {
   // A copy of bvh.nodes: read through the view, the pointer was loaded again at every node (the
   // leaf test, a call, might have changed the view for all the compiler knew).
   const WideNode<FN::kWidth>* nodes = bvh.nodes;
+  // The integer forms' entries are at least tnear, +0 or positive (see intersectWideNode).
+  static constexpr bool kEntriesNonNegative = kForm != NodeTestForm::kFloat;
   const uint32_t* children(uint32_t node) const { return nodes[node].child; }
   [[gnu::always_inline]] FN exitLimit(float tfar) const { return exitLimitLanes<kForm, FN>(tfar); }
   [[gnu::always_inline]] int enter(uint32_t node, float /*tnear: the frame's*/, const FN& tfarLanes,

@@ -9,6 +9,8 @@
 //                                                     mask of the entered children, entry distances
 //   void prefetch(uint32_t child)                     start loading a child before it is visited
 //   void count(uint32_t node, TraversalCounters&)     add the node's volume tests
+//   static constexpr bool kEntriesNonNegative          every entry distance enter reports for an
+//                                                     entered child is +0 or positive
 // Included only by the per-ISA translation units, inside their target region, as its callers are.
 #pragma once
 
@@ -118,7 +120,7 @@ template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes
     const int lane = __builtin_ctz(unsigned(mask));
     mask &= mask - 1;
     if constexpr (!kPredictLanes) nodes.prefetch(child[lane]);
-    keys[n++] = childOrderKey(entry[lane], lane);
+    keys[n++] = Nodes::kEntriesNonNegative ? childOrderKeyOfNonNegative(entry[lane], lane) : childOrderKey(entry[lane], lane);
   }
   sortChildOrderKeys(keys, n);
   for (int k = n - 1; k >= 1; --k) {

@@ -43,6 +43,16 @@ TEST(ChildOrder, KeysCompareAsTheirDistancesThenLanes) {
               << a << " lane " << la << " vs " << b << " lane " << lb;
 }
 
+// The integer node tests' entries are +0 or positive: their keys without the sign fix are the
+// same keys, so both walks visit in one order.
+TEST(ChildOrder, NonNegativeKeysEqualTheGeneralKeys) {
+  const float values[] = {0.f, 1e-45f, 1e-40f, 1e-30f, 1.f, 2.5f, 1e30f, std::numeric_limits<float>::max(),
+                          std::numeric_limits<float>::infinity()};
+  for (float t : values)
+    for (int lane = 0; lane < 8; ++lane)
+      EXPECT_EQ(childOrderKeyOfNonNegative(t, lane), childOrderKey(t, lane)) << t << " lane " << lane;
+}
+
 // Every arrangement of n distances drawn from few values (so ties are common) for n = 3..8, and
 // random distances of both signs.
 TEST(ChildOrder, SortsEveryCountLikeTheStableSortByDistance) {

@@ -27,6 +27,7 @@ struct FakeNode {
 struct FakeNodes {
   const std::vector<FakeNode>& tree;
   const uint32_t* children(uint32_t node) const { return tree[node].child; }
+  static constexpr bool kEntriesNonNegative = false;
   float exitLimit(float tfar) const { return tfar; }
   int enter(uint32_t node, float, float, float entry[kWidth]) const {
     for (int lane = 0; lane < kWidth; ++lane) entry[lane] = tree[node].entry[lane];
