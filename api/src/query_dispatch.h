@@ -58,13 +58,15 @@ inline bool tracesDirectly(const Scene& scene, const RTCIntersectContext& contex
 
 inline void intersectDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRayHit& rayhit) {
   Ray ray = backendRay(rayhit.ray, scene.device()->config().rayMasks);
-  Hit hit;
+  // Left unset: the kernels write the whole hit when they find one, and it is read only then (its
+  // defaults cost five instructions a ray, most rays of a camera missing).
+  UninitializedArray<Hit, 1> hit;
   QueryState state;
   state.instID = context.instID[0];
   state.coherent = declaresCoherentRays(context);
-  if (!scene.accel().intersectWideTriangles(ray, hit, state)) return;
+  if (!scene.accel().intersectWideTriangles(ray, hit[0], state)) return;
   rayhit.ray.tfar = ray.tfar;
-  rayhit.hit = embreeHit(hit);
+  rayhit.hit = embreeHit(hit[0]);
 }
 
 inline void occludedDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRay& rtcRay) {

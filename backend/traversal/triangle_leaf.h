@@ -78,6 +78,14 @@ inline bool intersectTriangle(const TriangleSet& set, const WatertightRay& wr, c
   hit.primID = primID;
   hit.instID = instID;
   hit.Ng = embreeGeometryNormal(v0, v1, v2);
+  // Triangles and quads, nearly every hit, with one compare: the kind tests below, as GCC compiled
+  // them, took about 13 instructions a hit.
+  if (kind <= TriangleKind::QuadSecondHalf) {
+    const bool secondHalf = kind == TriangleKind::QuadSecondHalf;
+    hit.u = secondHalf ? 1.f - th.u : th.u;
+    hit.v = secondHalf ? 1.f - th.v : th.v;
+    return hit;
+  }
   const bool secondHalf = isSecondHalf(kind);
   hit.u = secondHalf ? 1.f - th.u : th.u;
   hit.v = secondHalf ? 1.f - th.v : th.v;
