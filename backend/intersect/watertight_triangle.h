@@ -47,15 +47,24 @@ struct WatertightRay {
     w.org = ray.org;
     const float ax = std::fabs(ray.dir.x), ay = std::fabs(ray.dir.y), az = std::fabs(ray.dir.z);
     const int xBeatsY = ax >= ay, xBeatsZ = ax >= az, yBeatsZ = ay >= az;
-    w.kz = (1 - (xBeatsY & xBeatsZ)) * (2 - yBeatsZ);
-    // The next axes from a table: as arithmetic on kz == 2, GCC branched on it again.
-    static constexpr int kNextAxis[3] = {1, 2, 0};
-    w.kx = kNextAxis[w.kz];
-    w.ky = kNextAxis[w.kx];
-    const int swap = -int(ray.dir[w.kz] < 0.f), differ = (w.kx ^ w.ky) & swap;
-    w.kx ^= differ;
-    w.ky ^= differ;
-    w.shearAlongAxes(ray);
+    const int kz = (1 - (xBeatsY & xBeatsZ)) * (2 - yBeatsZ);
+    const float dominant = ray.dir[kz];
+    // kx and ky read from a table by kz and the dominant component's sign: the constructor's
+    // (kz + 1) % 3, (kx + 1) % 3 and swap. Computed (a table of next axes, then a swap by exclusive
+    // or), GCC kept the swap in vector registers: the set-up took 59 instructions, now 50
+    // (callgrind, bunny: 9 fewer a camera ray that hits and a diffuse bounce). A table of bytes took
+    // 2 more than this one of ints.
+    struct AxisPair {
+      int kx, ky;
+    };
+    static constexpr AxisPair kOtherAxes[6] = {{1, 2}, {2, 1}, {2, 0}, {0, 2}, {0, 1}, {1, 0}};
+    const AxisPair other = kOtherAxes[kz * 2 + int(dominant < 0.f)];
+    w.kx = other.kx;
+    w.ky = other.ky;
+    w.kz = kz;
+    w.Sx = ray.dir[other.kx] / dominant;
+    w.Sy = ray.dir[other.ky] / dominant;
+    w.Sz = 1.f / dominant;
     return w;
   }
 
