@@ -163,8 +163,11 @@ template <typename FN>
   // The planes entered and left first as the smaller and larger distance: the same floats as the
   // node test's planes chosen by the direction's sign.
   const F4 toLower = (org - lower) * negInv, toUpper = (org - upper) * negInv;
-  // A NaN (an origin not a number) is never turned away here.
-  if ((equalMask(toLower, toLower) & equalMask(toUpper, toUpper) & 7) != 7) return false;
+  // No check for NaN distances (an origin not a number; 8 instructions a ray): whatever this test
+  // answers for such a ray, the walk's integer node test enters no child for it either, so the
+  // ray hits nothing. Its slab distances along that axis are NaN for every child; a NaN whose sign
+  // bit is clear is, on the bits, above every entry (it becomes the child's entry), and one whose
+  // sign bit is set is below every exit (it becomes the child's exit): the child fails the compare.
   const F4 entry = min(toLower, toUpper), exit = max(toLower, toUpper);
   alignas(16) float entries[4], exits[4];
   entry.store(entries);
