@@ -52,28 +52,41 @@ inline bool declaresCoherentRays(const RTCIntersectContext& context) {
 // (no filters, user geometry or instances) while nobody counts traversal steps go straight to the
 // kernels, without QueryDispatch's set-up: that set-up, spread over five calls, was about a third
 // of the instructions of a ray that misses the scene. The answers are the same.
-inline bool tracesDirectly(const Scene& scene, const RTCIntersectContext& context) {
-  return scene.singleRaysDirect(context) && !anyThreadCounting();
+inline bool tracesDirectly(const Scene& scene) { return scene.singleRaysDirect() && !anyThreadCounting(); }
+
+// The query state of a direct ray: one of two constants for a context outside instances (every
+// application's own rays), else made in `own`. The six stores of a state made for every ray were
+// a tenth of rtcIntersect1's own instructions.
+inline constexpr QueryState kIncoherentRayState{};
+inline constexpr QueryState kCoherentRayState = [] {
+  QueryState state{};
+  state.coherent = true;
+  return state;
+}();
+// own: storage left unset until it is needed (made up front, its defaults were stored for every ray).
+inline const QueryState& directQueryState(const RTCIntersectContext& context, UninitializedArray<QueryState, 1>& own) {
+  const bool coherent = declaresCoherentRays(context);
+  if (context.instID[0] == RTC_INVALID_GEOMETRY_ID) return coherent ? kCoherentRayState : kIncoherentRayState;
+  own[0] = QueryState{};
+  own[0].instID = context.instID[0];
+  own[0].coherent = coherent;
+  return own[0];
 }
 
 inline void intersectDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRayHit& rayhit) {
-  Ray ray = backendRay(rayhit.ray, scene.device()->config().rayMasks);
+  Ray ray = backendRay(rayhit.ray, scene.rayMasks());
   // Left unset: the kernels write the whole hit when they find one, and it is read only then (its
   // defaults cost five instructions a ray, most rays of a camera missing).
   UninitializedArray<Hit, 1> hit;
-  QueryState state;
-  state.instID = context.instID[0];
-  state.coherent = declaresCoherentRays(context);
-  if (!scene.accel().intersectWideTriangles(ray, hit[0], state)) return;
+  UninitializedArray<QueryState, 1> own;
+  if (!scene.accel().intersectWideTriangles(ray, hit[0], directQueryState(context, own))) return;
   rayhit.ray.tfar = ray.tfar;
   rayhit.hit = embreeHit(hit[0]);
 }
 
 inline void occludedDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRay& rtcRay) {
-  QueryState state;
-  state.instID = context.instID[0];
-  state.coherent = declaresCoherentRays(context);
-  if (scene.accel().occludedWideTriangles(backendRay(rtcRay, scene.device()->config().rayMasks), state))
+  UninitializedArray<QueryState, 1> own;
+  if (scene.accel().occludedWideTriangles(backendRay(rtcRay, scene.rayMasks()), directQueryState(context, own)))
     rtcRay.tfar = -std::numeric_limits<float>::infinity();
 }
 

@@ -38,13 +38,13 @@ RTCRay rayOfNp(const RTCRayNp& r, unsigned i) {
 
 RTC_API void rtcIntersect1(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit) {
   const Scene* s = Scene::from(scene);
-  if (s && context && rayhit && tracesDirectly(*s, *context)) return intersectDirectly(*s, *context, *rayhit);
+  if (s && context && rayhit && tracesDirectly(*s)) return intersectDirectly(*s, *context, *rayhit);
   query(scene, context, rayhit, [&](QueryDispatch& d) { d.intersect(*rayhit); });
 }
 
 RTC_API void rtcOccluded1(RTCScene scene, RTCIntersectContext* context, RTCRay* ray) {
   const Scene* s = Scene::from(scene);
-  if (s && context && ray && tracesDirectly(*s, *context)) return occludedDirectly(*s, *context, *ray);
+  if (s && context && ray && tracesDirectly(*s)) return occludedDirectly(*s, *context, *ray);
   query(scene, context, ray, [&](QueryDispatch& d) { d.occluded(*ray); });
 }
 

@@ -24,7 +24,7 @@ unsigned Scene::attach(Geometry* geometry) {
   while (id < geometries_.size() && geometries_[id]) ++id;  // lowest free ID, as Embree hands them out
   if (id == geometries_.size()) geometries_.emplace_back();
   geometries_[id] = Ref<Geometry>(geometry);
-  modified_ = true;
+  markModified();
   return id;
 }
 
@@ -35,7 +35,7 @@ void Scene::attachById(Geometry* geometry, unsigned geomID) {
     fail(RTC_ERROR_INVALID_OPERATION, "invalid geometry ID provided");
   if (geomID >= geometries_.size()) geometries_.resize(size_t(geomID) + 1);
   geometries_[geomID] = Ref<Geometry>(geometry);
-  modified_ = true;
+  markModified();
 }
 
 void Scene::detach(unsigned geomID) {
@@ -43,7 +43,7 @@ void Scene::detach(unsigned geomID) {
   if (geomID >= geometries_.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid geometry ID");
   if (!geometries_[geomID]) fail(RTC_ERROR_INVALID_OPERATION, "invalid geometry");
   geometries_[geomID] = Ref<Geometry>();
-  modified_ = true;
+  markModified();
 }
 
 Geometry* Scene::geometry(unsigned geomID) {
@@ -54,7 +54,7 @@ Geometry* Scene::geometry(unsigned geomID) {
 
 void Scene::setFlags(int flags) {
   flags_ = flags;
-  modified_ = true;
+  markModified();
 }
 
 void Scene::setBuildQuality(int quality) {
@@ -62,7 +62,7 @@ void Scene::setBuildQuality(int quality) {
   if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM && quality != RTC_BUILD_QUALITY_HIGH)
     fail(RTC_ERROR_UNKNOWN, "invalid build quality");
   quality_ = quality;
-  modified_ = true;
+  markModified();
 }
 
 void Scene::setProgressMonitor(RTCProgressMonitorFunction fn, void* userPtr) {
@@ -261,6 +261,9 @@ bool Scene::wantsRefit() const {
 }
 
 void Scene::rebuild() {
+  // Single rays take the general path until a commit ends well: a build that fails (a memory
+  // monitor's cancel) may leave a tree the direct path must not trace.
+  singleRaysDirect_ = false;
   const bool refit = wantsRefit();
   SceneDesc desc;
   desc.owner = this;
@@ -362,7 +365,7 @@ void Scene::rebuild() {
     if (!refitted) accel_.build(desc, options);
   });
   ++buildGeneration_;
-  singleRaysDirect_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
+  builtForDirectRays_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
   if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
   // Reported after the build (post = true): the application counts it even when it cancels, so it
@@ -401,8 +404,9 @@ void Scene::commit() {
   if (progress_ && !progress_(progressUserPtr_, 0.0)) fail(RTC_ERROR_CANCELLED, "commit cancelled by the progress monitor");
   if (needsRebuild()) rebuild();
   modified_ = false;
+  singleRaysDirect_ = builtForDirectRays_ && !(flags_ & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   if (progress_ && !progress_(progressUserPtr_, 1.0)) {
-    modified_ = true;
+    markModified();
     fail(RTC_ERROR_CANCELLED, "commit cancelled by the progress monitor");
   }
 }

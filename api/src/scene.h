@@ -18,7 +18,7 @@ namespace obvh::api {
 
 class Scene : public RefCounted {
  public:
-  explicit Scene(Device* device) : device_(device) {}
+  explicit Scene(Device* device) : device_(device), rayMasks_(device->config().rayMasks) {}
   // Gives the memory it reported back to the device's memory monitor.
   ~Scene() override;
 
@@ -48,12 +48,14 @@ class Scene : public RefCounted {
   Geometry* builtGeometry(unsigned geomID) const { return builtGeometries_[geomID].get(); }
   // Whether queries must call back into the API (filters or user geometry somewhere below).
   bool needsCallbacks() const { return needsCallbacks_; }
-  // Whether single rays with this context may skip the general query path (query_dispatch.h):
-  // committed, one wide triangle tree, no callbacks (context filters included).
-  bool singleRaysDirect(const RTCIntersectContext& context) const {
-    return singleRaysDirect_ && !modified_.load(std::memory_order_relaxed) &&
-           !((flags_ & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) && context.filter);
-  }
+  // Whether single rays may skip the general query path (query_dispatch.h): committed, one wide
+  // triangle tree, no callbacks. A scene that accepts context filters
+  // (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context brings one: one
+  // flag, kept by commit and every change, where three conditions (and the context's filter) were
+  // tested at every ray.
+  bool singleRaysDirect() const { return singleRaysDirect_.load(std::memory_order_relaxed); }
+  // The device's ray_mask setting, read at every direct ray (a copy here spares the load of the device).
+  bool rayMasks() const { return rayMasks_; }
   uint64_t buildGeneration() const { return buildGeneration_; }
 
   static Scene* from(RTCScene handle) { return reinterpret_cast<Scene*>(handle); }
@@ -64,6 +66,10 @@ class Scene : public RefCounted {
   bool needsRebuild() const;
   void rebuild();
   bool wantsRefit() const;
+  void markModified() {
+    modified_ = true;
+    singleRaysDirect_ = false;
+  }
 
   Ref<Device> device_;
   std::mutex mutex_;
@@ -78,7 +84,9 @@ class Scene : public RefCounted {
   std::vector<Ref<Geometry>> builtGeometries_;
   std::vector<uint64_t> builtChildGenerations_;  // instanced scenes' generations at the last build
   bool needsCallbacks_ = false;
-  bool singleRaysDirect_ = false;
+  std::atomic<bool> singleRaysDirect_{false};
+  bool builtForDirectRays_ = false;  // the last build: one wide triangle tree, no callbacks
+  const bool rayMasks_;
   uint64_t buildGeneration_ = 0;
   size_t reportedMemory_ = 0;
 };
