@@ -576,7 +576,9 @@ void expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes() {
     float entry[N];
     const int entered = intersectWideNode<NodeTestForm::kBits>(
         l.wide.nodes[l.wide.rootChild], frame, exitLimitLanes<NodeTestForm::kBits, FN>(ray.tfar), entry);
-    if (i % 4 == 1) ASSERT_EQ(entered, 0) << "ray " << i << " (origin not a number)";
+    if (i % 4 == 1) {
+      ASSERT_EQ(entered, 0) << "ray " << i << " (origin not a number)";
+    }
     if (misses) {
       ASSERT_EQ(entered, 0) << "ray " << i;
       ++turnedAway;
