@@ -225,18 +225,17 @@ void writeFoundLanesOneByOne(uint32_t found, const Ray* rays, const Hit* hits, R
 
 #ifdef __SSE2__
 // writeFoundLanesOneByOne for lanes in eights on CPUs with AVX2 (the lanes gathered in eights): a
-// Hit's eight fields transposed over eight lanes are RTCHitN's eight rows (geomID and primID
-// swapped), blended into them under the found lanes' mask; the other lanes keep their values (their
-// hits, never written, are loaded but not stored). Coherent rtcIntersect8 packets on the bunny took
+// Hit's eight fields transposed over eight lanes are RTCHitN's eight rows, blended into them under
+// the found lanes' mask; the other lanes keep their values (their hits, never written, are loaded
+// but not stored). Coherent rtcIntersect8 packets on the bunny took
 // 30 instructions fewer each than lane by lane (callgrind).
 __attribute__((target("avx2"))) void writeFoundLanesByEights(uint32_t found, const Ray* rays, const Hit* hits,
                                                              RTCRayN* rayN, RTCHitN* hitN, unsigned N, unsigned first,
                                                              unsigned count) {
   static_assert(sizeof(Hit) == 8 * sizeof(float) && offsetof(Hit, u) == 12 && offsetof(Hit, v) == 16 &&
-                offsetof(Hit, geomID) == 20 && offsetof(Hit, primID) == 24 && offsetof(Hit, instID) == 28 &&
+                offsetof(Hit, primID) == 20 && offsetof(Hit, geomID) == 24 && offsetof(Hit, instID) == 28 &&
                 RTC_MAX_INSTANCE_LEVEL_COUNT == 1);
   // RTCHitN's rows: Ng x, y, z, u, v, primID, geomID, instID; RTCRayN's tfar is its row 8.
-  constexpr int kRowOfField[8] = {0, 1, 2, 3, 4, 6, 5, 7};
   float* hitRows = reinterpret_cast<float*>(hitN);
   float* tfarRow = reinterpret_cast<float*>(rayN) + 8 * N;
   const __m256i laneBits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -253,7 +252,7 @@ __attribute__((target("avx2"))) void writeFoundLanesByEights(uint32_t found, con
     };
     simd::Float8Avx fields[8];  // of the eight lanes' hits, one each
     simd::Float8Avx::loadColumns(reinterpret_cast<const float*>(hits + k), 8, fields);
-    for (int f = 0; f < 8; ++f) storeLanes(hitRows + kRowOfField[f] * N + first + k, fields[f].v);
+    for (int f = 0; f < 8; ++f) storeLanes(hitRows + f * N + first + k, fields[f].v);
     const __m256 tfar = _mm256_setr_ps(rays[k].tfar, rays[k + 1].tfar, rays[k + 2].tfar, rays[k + 3].tfar,
                                        rays[k + 4].tfar, rays[k + 5].tfar, rays[k + 6].tfar, rays[k + 7].tfar);
     storeLanes(tfarRow + first + k, tfar);

@@ -18,13 +18,17 @@
 
 namespace obvh::api {
 
+// Hit repeats RTCHit's fields in RTCHit's order: one 32-byte copy hands a hit over (field by
+// field, with geomID and primID in the other order, it took 11 instructions).
+static_assert(std::is_trivially_copyable_v<Hit> && sizeof(Hit) == sizeof(RTCHit) &&
+              offsetof(Hit, Ng) == offsetof(RTCHit, Ng_x) && offsetof(Hit, u) == offsetof(RTCHit, u) &&
+              offsetof(Hit, v) == offsetof(RTCHit, v) && offsetof(Hit, primID) == offsetof(RTCHit, primID) &&
+              offsetof(Hit, geomID) == offsetof(RTCHit, geomID) && offsetof(Hit, instID) == offsetof(RTCHit, instID) &&
+              RTC_MAX_INSTANCE_LEVEL_COUNT == 1);
+
 inline RTCHit embreeHit(const Hit& hit) {
-  RTCHit out{};
-  out.Ng_x = hit.Ng.x, out.Ng_y = hit.Ng.y, out.Ng_z = hit.Ng.z;
-  out.u = hit.u, out.v = hit.v;
-  out.primID = hit.primID;
-  out.geomID = hit.geomID;
-  out.instID[0] = hit.instID;
+  RTCHit out;
+  std::memcpy(static_cast<void*>(&out), &hit, sizeof out);
   return out;
 }
 
@@ -51,42 +55,47 @@ inline bool declaresCoherentRays(const RTCIntersectContext& context) {
 // Single rays against a committed scene that is one wide triangle tree with nothing to call back
 // (no filters, user geometry or instances) while nobody counts traversal steps go straight to the
 // kernels, without QueryDispatch's set-up: that set-up, spread over five calls, was about a third
-// of the instructions of a ray that misses the scene. The answers are the same.
-inline bool tracesDirectly(const Scene& scene) { return scene.singleRaysDirect() && !anyThreadCounting(); }
+// of the instructions of a ray that misses the scene. The answers are the same. Returns the
+// scene's entry (Scene::directEntry), or null when its rays take the general path.
+inline const SingleRayEntry* directEntryOf(const Scene& scene) {
+  const SingleRayEntry* entry = scene.directEntry();
+  return entry && !anyThreadCounting() ? entry : nullptr;
+}
 
 // The query state of a direct ray: one of two constants for a context outside instances (every
-// application's own rays), else made in `own`. The six stores of a state made for every ray were
-// a tenth of rtcIntersect1's own instructions.
-inline constexpr QueryState kIncoherentRayState{};
-inline constexpr QueryState kCoherentRayState = [] {
-  QueryState state{};
-  state.coherent = true;
-  return state;
-}();
+// application's own rays), indexed by the coherence hint, else made in `own`. The six stores of a
+// state made for every ray were a tenth of rtcIntersect1's own instructions.
+inline constexpr QueryState kDirectRayStates[2] = {QueryState{}, [] {
+                                                     QueryState state{};
+                                                     state.coherent = true;
+                                                     return state;
+                                                   }()};
 // own: storage left unset until it is needed (made up front, its defaults were stored for every ray).
 inline const QueryState& directQueryState(const RTCIntersectContext& context, UninitializedArray<QueryState, 1>& own) {
   const bool coherent = declaresCoherentRays(context);
-  if (context.instID[0] == RTC_INVALID_GEOMETRY_ID) return coherent ? kCoherentRayState : kIncoherentRayState;
+  if (context.instID[0] == RTC_INVALID_GEOMETRY_ID) return kDirectRayStates[coherent];
   own[0] = QueryState{};
   own[0].instID = context.instID[0];
   own[0].coherent = coherent;
   return own[0];
 }
 
-inline void intersectDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRayHit& rayhit) {
+inline void intersectDirectly(const SingleRayEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                              RTCRayHit& rayhit) {
   Ray ray = backendRay(rayhit.ray, scene.rayMasks());
   // Left unset: the kernels write the whole hit when they find one, and it is read only then (its
   // defaults cost five instructions a ray, most rays of a camera missing).
   UninitializedArray<Hit, 1> hit;
   UninitializedArray<QueryState, 1> own;
-  if (!scene.accel().intersectWideTriangles(ray, hit[0], directQueryState(context, own))) return;
+  if (!entry.intersect(ray, hit[0], directQueryState(context, own), declaresCoherentRays(context))) return;
   rayhit.ray.tfar = ray.tfar;
   rayhit.hit = embreeHit(hit[0]);
 }
 
-inline void occludedDirectly(const Scene& scene, const RTCIntersectContext& context, RTCRay& rtcRay) {
+inline void occludedDirectly(const SingleRayEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                             RTCRay& rtcRay) {
   UninitializedArray<QueryState, 1> own;
-  if (scene.accel().occludedWideTriangles(backendRay(rtcRay, scene.rayMasks()), directQueryState(context, own)))
+  if (entry.occluded(backendRay(rtcRay, scene.rayMasks()), directQueryState(context, own), declaresCoherentRays(context)))
     rtcRay.tfar = -std::numeric_limits<float>::infinity();
 }
 

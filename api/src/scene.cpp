@@ -263,7 +263,7 @@ bool Scene::wantsRefit() const {
 void Scene::rebuild() {
   // Single rays take the general path until a commit ends well: a build that fails (a memory
   // monitor's cancel) may leave a tree the direct path must not trace.
-  singleRaysDirect_ = false;
+  directEntry_ = nullptr;
   const bool refit = wantsRefit();
   SceneDesc desc;
   desc.owner = this;
@@ -366,6 +366,7 @@ void Scene::rebuild() {
   });
   ++buildGeneration_;
   builtForDirectRays_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
+  if (builtForDirectRays_) builtEntry_ = accel_.singleRayEntry();
   if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
   // Reported after the build (post = true): the application counts it even when it cancels, so it
@@ -404,7 +405,7 @@ void Scene::commit() {
   if (progress_ && !progress_(progressUserPtr_, 0.0)) fail(RTC_ERROR_CANCELLED, "commit cancelled by the progress monitor");
   if (needsRebuild()) rebuild();
   modified_ = false;
-  singleRaysDirect_ = builtForDirectRays_ && !(flags_ & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  if (builtForDirectRays_ && !(flags_ & RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION)) directEntry_ = &builtEntry_;
   if (progress_ && !progress_(progressUserPtr_, 1.0)) {
     markModified();
     fail(RTC_ERROR_CANCELLED, "commit cancelled by the progress monitor");

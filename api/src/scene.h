@@ -48,12 +48,12 @@ class Scene : public RefCounted {
   Geometry* builtGeometry(unsigned geomID) const { return builtGeometries_[geomID].get(); }
   // Whether queries must call back into the API (filters or user geometry somewhere below).
   bool needsCallbacks() const { return needsCallbacks_; }
-  // Whether single rays may skip the general query path (query_dispatch.h): committed, one wide
-  // triangle tree, no callbacks. A scene that accepts context filters
-  // (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context brings one: one
-  // flag, kept by commit and every change, where three conditions (and the context's filter) were
+  // The kernels single rays take past the general query path (query_dispatch.h), or null when they
+  // may not: committed, one wide triangle tree, no callbacks. A scene that accepts context filters
+  // (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context brings one. Set
+  // by commit and cleared by every change, where three conditions (and the context's filter) were
   // tested at every ray.
-  bool singleRaysDirect() const { return singleRaysDirect_.load(std::memory_order_relaxed); }
+  const SingleRayEntry* directEntry() const { return directEntry_.load(std::memory_order_relaxed); }
   // The device's ray_mask setting, read at every direct ray (a copy here spares the load of the device).
   bool rayMasks() const { return rayMasks_; }
   uint64_t buildGeneration() const { return buildGeneration_; }
@@ -68,7 +68,7 @@ class Scene : public RefCounted {
   bool wantsRefit() const;
   void markModified() {
     modified_ = true;
-    singleRaysDirect_ = false;
+    directEntry_ = nullptr;
   }
 
   Ref<Device> device_;
@@ -84,7 +84,8 @@ class Scene : public RefCounted {
   std::vector<Ref<Geometry>> builtGeometries_;
   std::vector<uint64_t> builtChildGenerations_;  // instanced scenes' generations at the last build
   bool needsCallbacks_ = false;
-  std::atomic<bool> singleRaysDirect_{false};
+  std::atomic<const SingleRayEntry*> directEntry_{nullptr};
+  SingleRayEntry builtEntry_;  // what directEntry_ points to when set
   bool builtForDirectRays_ = false;  // the last build: one wide triangle tree, no callbacks
   const bool rayMasks_;
   uint64_t buildGeneration_ = 0;

@@ -31,11 +31,13 @@ inline Ray rayAlong(Vec3f org, Vec3f dir, float tnear = 0.f, float tfar = std::n
   return ray;
 }
 
+// Laid out as Embree's RTCHit (Ng, u, v, primID, geomID, instID), so that the API hands a hit
+// over as one copy (api/src/query_dispatch.h checks the offsets).
 struct Hit {
   Vec3f Ng;  // unnormalized, in Embree's orientation
   float u = 0.f, v = 0.f;
-  uint32_t geomID = kInvalidId;
   uint32_t primID = kInvalidId;
+  uint32_t geomID = kInvalidId;
   uint32_t instID = kInvalidId;  // the instance the hit was found through, if any
 };
 

@@ -400,6 +400,23 @@ bool SceneAccel::occludedOrientedWideTriangles(const Ray& ray, const QueryState&
   return !triangleOrientedWideView4_.empty() && intersectAnyOrientedWide(triangleOrientedWideView4_, ray, state, counters);
 }
 
+SingleRayEntry SceneAccel::singleRayEntry() const {
+  if (layout_ == AccelLayout::Bvh8) return obvh::singleRayEntry(triangleView8_);
+  if (layout_ == AccelLayout::Bvh4) return obvh::singleRayEntry(triangleView4_);
+  // The oriented layouts choose their kernels inside (intersectClosestOrientedWide).
+  SingleRayEntry entry;
+  entry.target = this;
+  auto closest = [](const void* accel, Ray& ray, Hit& hit, const QueryState& state) {
+    return static_cast<const SceneAccel*>(accel)->intersectOrientedWideTriangles(ray, hit, state, nullptr);
+  };
+  auto any = [](const void* accel, const Ray& ray, const QueryState& state) {
+    return static_cast<const SceneAccel*>(accel)->occludedOrientedWideTriangles(ray, state, nullptr);
+  };
+  entry.closest[0] = entry.closest[1] = closest;
+  entry.any[0] = entry.any[1] = any;
+  return entry;
+}
+
 bool SceneAccel::intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters) const {
   // An explicit counters argument (the layout study) counts like state.counters (heatmaps); the
   // normal query path has neither and copies nothing.

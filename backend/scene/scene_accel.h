@@ -22,6 +22,7 @@
 #include "traversal/traversal_counters.h"
 #include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
+#include "traversal/single_ray_entry.h"
 
 namespace obvh {
 
@@ -57,8 +58,8 @@ class SceneAccel {
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
   // Whether the scene is one wide triangle tree (axis-aligned or oriented) and nothing else (no
   // instances, user geometry or shapes). Its single rays may then skip intersect()'s dispatch and
-  // call the two functions below, inline, which test the wide triangle tree alone (intersect() and
-  // occluded() use them too for the axis-aligned layouts). They count nothing.
+  // take singleRayEntry()'s kernels, which test the wide triangle tree alone, as the two functions
+  // below do (intersect() and occluded() use them for the axis-aligned layouts). They count nothing.
   bool wideTrianglesOnly() const {
     return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4 || orientedWide()) && objectBvh_.empty();
   }
@@ -72,6 +73,9 @@ class SceneAccel {
     if (layout_ == AccelLayout::Bvh4) return !triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state);
     return occludedOrientedWideTriangles(ray, state, nullptr);
   }
+  // The queries of a wideTrianglesOnly() scene as a SingleRayEntry, chosen once (the layout and its
+  // kernels): valid until the next build or refit.
+  SingleRayEntry singleRayEntry() const;
   // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
   // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
   // Return the mask of lanes that hit / are occluded.

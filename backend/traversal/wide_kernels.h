@@ -7,10 +7,21 @@
 
 namespace obvh {
 
+// A kernel called through SingleRayEntry, whose target is the view.
+template <int N, auto kKernel>
+bool closestOfView(const void* view, Ray& ray, Hit& hit, const QueryState& state) {
+  return kKernel(*static_cast<const TriangleWideView<N>*>(view), ray, hit, state);
+}
+template <int N, auto kKernel>
+bool anyOfView(const void* view, const Ray& ray, const QueryState& state) {
+  return kKernel(*static_cast<const TriangleWideView<N>*>(view), ray, state);
+}
+
 // One table per child order of closest-hit single rays (packets and any-hit queries are the same
 // in both).
 template <typename FN, typename F4>
 const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
+  constexpr int N = FN::kWidth;
   static const WideKernels<FN::kWidth> nearToFar{&intersectClosestWideImpl<FN, F4>,
                                                  &intersectAnyWideImpl<FN, F4>,
                                                  &intersectClosestWidePacketImpl<FN, F4>,
@@ -18,7 +29,11 @@ const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
                                                  &intersectClosestWideImpl<FN, F4, true>,
                                                  &intersectAnyWideImpl<FN, F4, true>,
                                                  &intersectClosestWideImpl<FN, F4, false, true, true>,
-                                                 &intersectAnyWideImpl<FN, F4, false, true>};
+                                                 &intersectAnyWideImpl<FN, F4, false, true>,
+                                                 {&closestOfView<N, &intersectClosestWideImpl<FN, F4>>,
+                                                  &closestOfView<N, &intersectClosestWideImpl<FN, F4, false, true, true>>},
+                                                 {&anyOfView<N, &intersectAnyWideImpl<FN, F4>>,
+                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>}};
   static const WideKernels<FN::kWidth> laneOrder{&intersectClosestWideImpl<FN, F4, false, false>,
                                                  &intersectAnyWideImpl<FN, F4>,
                                                  &intersectClosestWidePacketImpl<FN, F4>,
@@ -26,7 +41,11 @@ const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
                                                  &intersectClosestWideImpl<FN, F4, true, false>,
                                                  &intersectAnyWideImpl<FN, F4, true>,
                                                  &intersectClosestWideImpl<FN, F4, false, false, true>,
-                                                 &intersectAnyWideImpl<FN, F4, false, true>};
+                                                 &intersectAnyWideImpl<FN, F4, false, true>,
+                                                 {&closestOfView<N, &intersectClosestWideImpl<FN, F4, false, false>>,
+                                                  &closestOfView<N, &intersectClosestWideImpl<FN, F4, false, false, true>>},
+                                                 {&anyOfView<N, &intersectAnyWideImpl<FN, F4>>,
+                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>}};
   return order == ChildOrder::NearToFar ? nearToFar : laneOrder;
 }
 

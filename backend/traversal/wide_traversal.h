@@ -7,6 +7,7 @@
 
 #include "builders/build_options.h"
 #include "bvh/wide_bvh.h"
+#include "traversal/single_ray_entry.h"
 #include "traversal/triangle_leaf.h"
 
 namespace obvh {
@@ -58,7 +59,24 @@ struct WideKernels {
   // answers, from a walk that lets the branch predictor guess the next child (wide_walk.h).
   bool (*closestCoherent)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
   bool (*anyCoherent)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
+  // closest, closestCoherent, any and anyCoherent for a SingleRayEntry whose target is the view
+  // (each jumps to its kernel).
+  SingleRayEntry::Closest closestOfView[2];
+  SingleRayEntry::Any anyOfView[2];
 };
+
+// The entry of a view: its own kernels, or the empty structure's.
+template <int N>
+SingleRayEntry singleRayEntry(const TriangleWideView<N>& view) {
+  SingleRayEntry entry;
+  if (view.empty()) return entry;
+  entry.target = &view;
+  for (int coherent = 0; coherent < 2; ++coherent) {
+    entry.closest[coherent] = view.kernels->closestOfView[coherent];
+    entry.any[coherent] = view.kernels->anyOfView[coherent];
+  }
+  return entry;
+}
 
 // Defined in wide_traversal_<isa>.cpp, each compiled for its instruction set.
 const WideKernels<4>& bvh4ScalarKernels(ChildOrder order);

@@ -1,6 +1,7 @@
 // rtcIntersect1 / rtcOccluded1 take a short path straight to the triangle kernels when a scene is
 // one wide triangle tree with nothing to call back. These tests pin down when it must not be
-// taken: while traversal steps are counted, with a context filter, and before a commit.
+// taken: while traversal steps are counted, with a context filter, and before a commit; and that
+// it answers in every wide layout.
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 #include <obvh/traversal_statistics.h>
@@ -150,6 +151,55 @@ TEST_P(SingleRayPath, ModifiedSceneIsNotTracedUntilCommitted) {
   EXPECT_EQ(shadow.tfar, std::numeric_limits<float>::infinity());
 }
 
-INSTANTIATE_TEST_SUITE_P(WideLayouts, SingleRayPath, ::testing::Values("accel=bvh8", "accel=bvh4"));
+// The short path's kernels are chosen at commit (the layout's, for incoherent and for coherent
+// rays): each answers as the general path does, with every field of the hit, and a scene without
+// triangles misses.
+TEST_P(SingleRayPath, BothWalksAnswerAndAnEmptySceneMisses) {
+  rtcCommitScene(scene);
+  for (const RTCIntersectContextFlags flags : {RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT, RTC_INTERSECT_CONTEXT_FLAG_COHERENT}) {
+    SCOPED_TRACE(flags);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = flags;
+    RTCRayHit rayhit = rayDown();
+    rayhit.hit.instID[0] = 7u;  // overwritten by a hit outside instances
+    rtcIntersect1(scene, &context, &rayhit);
+    EXPECT_EQ(rayhit.ray.tfar, 5.f);
+    EXPECT_EQ(rayhit.hit.geomID, 0u);
+    EXPECT_EQ(rayhit.hit.primID, 21u);  // the upper-left half of square 10: corners (10,0) (11,1) (10,1)
+    EXPECT_EQ(rayhit.hit.instID[0], RTC_INVALID_GEOMETRY_ID);
+    // Embree's Ng = (v2 - v0) x (v0 - v1) = (0, 1, 0) x (-1, -1, 0).
+    EXPECT_EQ(rayhit.hit.Ng_x, 0.f);
+    EXPECT_EQ(rayhit.hit.Ng_y, 0.f);
+    EXPECT_EQ(rayhit.hit.Ng_z, 1.f);
+    EXPECT_NEAR(rayhit.hit.u, 0.3f, 1e-6f);
+    EXPECT_NEAR(rayhit.hit.v, 0.1f, 1e-6f);
+    RTCRay shadow = rayDown().ray;
+    rtcOccluded1(scene, &context, &shadow);
+    EXPECT_EQ(shadow.tfar, -std::numeric_limits<float>::infinity());
+    RTCRay past = rayDown().ray;
+    past.org_x = 70.f;  // beyond the row of squares
+    rtcOccluded1(scene, &context, &past);
+    EXPECT_EQ(past.tfar, std::numeric_limits<float>::infinity());
+  }
+
+  RTCScene empty = rtcNewScene(device);
+  rtcCommitScene(empty);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit = rayDown();
+  rtcIntersect1(empty, &context, &rayhit);
+  EXPECT_EQ(rayhit.hit.geomID, RTC_INVALID_GEOMETRY_ID);
+  EXPECT_EQ(rayhit.ray.tfar, std::numeric_limits<float>::infinity());
+  RTCRay shadow = rayDown().ray;
+  rtcOccluded1(empty, &context, &shadow);
+  EXPECT_EQ(shadow.tfar, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_NONE);
+  rtcReleaseScene(empty);
+}
+
+INSTANTIATE_TEST_SUITE_P(WideLayouts, SingleRayPath,
+                         ::testing::Values("accel=bvh8", "accel=bvh4", "accel=obb,obb_width=4",
+                                           "accel=hybrid,obb_width=4"));
 
 }  // namespace
