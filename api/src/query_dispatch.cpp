@@ -268,7 +268,54 @@ inline void writeFoundLanes(uint32_t found, const Ray* rays, const Hit* hits, RT
   writeFoundLanesOneByOne(found, rays, hits, rayN, hitN, N, first);
 }
 
+// A packet of N lanes in groups of up to kMaxPacketSize live lanes: trace(rays, hits, live) traces
+// one group and returns the lanes that hit, whose hits are written back.
+template <typename Trace>
+void intersectInLaneGroups(const int* valid, RTCRayHitN* packet, unsigned N, bool masksOn, Trace&& trace) {
+  RTCRayN* rayN = RTCRayHitN_RayN(packet, N);
+  RTCHitN* hitN = RTCRayHitN_HitN(packet, N);
+  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
+    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
+    UninitializedArray<Ray, kMaxPacketSize> rays;  // written in groups of lanes holding a live one
+    UninitializedArray<Hit, kMaxPacketSize> hits;
+    const uint32_t live = gatherLiveLanes(valid, rayN, N, first, count, masksOn, rays.data());
+    if (live == 0) continue;
+    const uint32_t found = trace(rays.data(), hits.data(), live);
+    if (found) writeFoundLanes(found, rays.data(), hits.data(), rayN, hitN, N, first, count);
+  }
+}
+
+// The same for occlusion: trace(rays, live) returns the lanes that are blocked.
+template <typename Trace>
+void occludedInLaneGroups(const int* valid, RTCRayN* rayN, unsigned N, bool masksOn, Trace&& trace) {
+  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
+    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
+    UninitializedArray<Ray, kMaxPacketSize> rays;
+    const uint32_t live = gatherLiveLanes(valid, rayN, N, first, count, masksOn, rays.data());
+    if (live == 0) continue;
+    for (uint32_t blocked = trace(rays.data(), live); blocked; blocked &= blocked - 1)
+      RTCRayN_tfar(rayN, N, first + unsigned(__builtin_ctz(blocked))) = -std::numeric_limits<float>::infinity();
+  }
+}
+
 }  // namespace
+
+void intersectPacketDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                             const int* valid, RTCRayHitN* packet, unsigned N) {
+  UninitializedArray<QueryState, 1> own;
+  const QueryState& state = directQueryState(context, own);
+  intersectInLaneGroups(valid, packet, N, scene.rayMasks(), [&](Ray* rays, Hit* hits, uint32_t live) {
+    return entry.closestPacket(entry.target, rays, hits, live, state);
+  });
+}
+
+void occludedPacketDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                            const int* valid, RTCRayN* packet, unsigned N) {
+  UninitializedArray<QueryState, 1> own;
+  const QueryState& state = directQueryState(context, own);
+  occludedInLaneGroups(valid, packet, N, scene.rayMasks(),
+                       [&](const Ray* rays, uint32_t live) { return entry.anyPacket(entry.target, rays, live, state); });
+}
 
 // Filters and user geometry receive the application's ray (id, flags, time) one lane at a time,
 // so scenes with callbacks keep the lane-by-lane path; packets of more lanes than the backend's
@@ -286,15 +333,9 @@ void QueryDispatch::intersectPacket(const int* valid, RTCRayHitN* packet, unsign
     }
     return;
   }
-  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
-    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
-    UninitializedArray<Ray, kMaxPacketSize> rays;  // written in groups of lanes holding a live one
-    UninitializedArray<Hit, kMaxPacketSize> hits;
-    const uint32_t live = gatherLiveLanes(valid, rayN, N, first, count, masksOn_, rays.data());
-    if (live == 0) continue;
-    const uint32_t found = scene_.accel().intersectPacket(rays.data(), hits.data(), live, state_);
-    if (found) writeFoundLanes(found, rays.data(), hits.data(), rayN, hitN, N, first, count);
-  }
+  intersectInLaneGroups(valid, packet, N, masksOn_, [&](Ray* rays, Hit* hits, uint32_t live) {
+    return scene_.accel().intersectPacket(rays, hits, live, state_);
+  });
 }
 
 void QueryDispatch::occludedPacket(const int* valid, RTCRayN* rayN, unsigned N) {
@@ -306,14 +347,8 @@ void QueryDispatch::occludedPacket(const int* valid, RTCRayN* rayN, unsigned N) 
     }
     return;
   }
-  for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
-    const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
-    UninitializedArray<Ray, kMaxPacketSize> rays;
-    const uint32_t live = gatherLiveLanes(valid, rayN, N, first, count, masksOn_, rays.data());
-    if (live == 0) continue;
-    for (uint32_t blocked = scene_.accel().occludedPacket(rays.data(), live, state_); blocked; blocked &= blocked - 1)
-      RTCRayN_tfar(rayN, N, first + unsigned(__builtin_ctz(blocked))) = -std::numeric_limits<float>::infinity();
-  }
+  occludedInLaneGroups(valid, rayN, N, masksOn_,
+                       [&](const Ray* rays, uint32_t live) { return scene_.accel().occludedPacket(rays, live, state_); });
 }
 
 void QueryDispatch::runFilters(const Geometry& geometry, const RTCFilterFunctionNArguments* args,

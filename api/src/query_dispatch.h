@@ -57,8 +57,8 @@ inline bool declaresCoherentRays(const RTCIntersectContext& context) {
 // kernels, without QueryDispatch's set-up: that set-up, spread over five calls, was about a third
 // of the instructions of a ray that misses the scene. The answers are the same. Returns the
 // scene's entry (Scene::directEntry), or null when its rays take the general path.
-inline const SingleRayEntry* directEntryOf(const Scene& scene) {
-  const SingleRayEntry* entry = scene.directEntry();
+inline const QueryEntry* directEntryOf(const Scene& scene) {
+  const QueryEntry* entry = scene.directEntry();
   return entry && !anyThreadCounting() ? entry : nullptr;
 }
 
@@ -80,7 +80,7 @@ inline const QueryState& directQueryState(const RTCIntersectContext& context, Un
   return own[0];
 }
 
-inline void intersectDirectly(const SingleRayEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+inline void intersectDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
                               RTCRayHit& rayhit) {
   Ray ray = backendRay(rayhit.ray, scene.rayMasks());
   // Left unset: the kernels write the whole hit when they find one, and it is read only then (its
@@ -92,12 +92,21 @@ inline void intersectDirectly(const SingleRayEntry& entry, const Scene& scene, c
   rayhit.hit = embreeHit(hit[0]);
 }
 
-inline void occludedDirectly(const SingleRayEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+inline void occludedDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
                              RTCRay& rtcRay) {
   UninitializedArray<QueryState, 1> own;
   if (entry.occluded(backendRay(rtcRay, scene.rayMasks()), directQueryState(context, own), declaresCoherentRays(context)))
     rtcRay.tfar = -std::numeric_limits<float>::infinity();
 }
+
+// Packets (Embree's SOA layout, N lanes, lane i active when valid[i] == -1 or valid is null) past
+// QueryDispatch, traced by the entry's packet kernels in groups of kMaxPacketSize lanes: for a
+// coherent rtcIntersect8 packet QueryDispatch's set-up and dispatch were about a twentieth of its
+// instructions (callgrind, bunny).
+void intersectPacketDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                             const int* valid, RTCRayHitN* packet, unsigned N);
+void occludedPacketDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
+                            const int* valid, RTCRayN* packet, unsigned N);
 
 class QueryDispatch final : public QueryCallbacks {
  public:

@@ -44,57 +44,61 @@ RTCRay rayOfNp(const RTCRayNp& r, unsigned i) {
   query(scene, context, ray, [&](QueryDispatch& d) { d.occluded(*ray); });
 }
 
+// rtcIntersect4/8/16 and rtcOccluded4/8/16: straight to the kernels when the scene allows it
+// (directEntryOf), else through QueryDispatch.
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitN* packet, unsigned N) {
+  const Scene* s = Scene::from(scene);
+  if (s && context && packet)
+    if (const obvh::QueryEntry* entry = directEntryOf(*s))
+      return intersectPacketDirectly(*entry, *s, *context, valid, packet, N);
+  query(scene, context, packet, [&](QueryDispatch& d) { d.intersectPacket(valid, packet, N); });
+}
+void occludedPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayN* packet, unsigned N) {
+  const Scene* s = Scene::from(scene);
+  if (s && context && packet)
+    if (const obvh::QueryEntry* entry = directEntryOf(*s)) return occludedPacketDirectly(*entry, *s, *context, valid, packet, N);
+  query(scene, context, packet, [&](QueryDispatch& d) { d.occludedPacket(valid, packet, N); });
+}
+
 }  // namespace
 
 RTC_API void rtcIntersect1(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit) {
   const Scene* s = Scene::from(scene);
   if (s && context && rayhit)
-    if (const obvh::SingleRayEntry* entry = directEntryOf(*s)) return intersectDirectly(*entry, *s, *context, *rayhit);
+    if (const obvh::QueryEntry* entry = directEntryOf(*s)) return intersectDirectly(*entry, *s, *context, *rayhit);
   intersectOne(scene, context, rayhit);
 }
 
 RTC_API void rtcOccluded1(RTCScene scene, RTCIntersectContext* context, RTCRay* ray) {
   const Scene* s = Scene::from(scene);
   if (s && context && ray)
-    if (const obvh::SingleRayEntry* entry = directEntryOf(*s)) return occludedDirectly(*entry, *s, *context, *ray);
+    if (const obvh::QueryEntry* entry = directEntryOf(*s)) return occludedDirectly(*entry, *s, *context, *ray);
   occludedOne(scene, context, ray);
 }
 
 // RTCRayHit4/8/16 have exactly the RTCRayHitN layout for N = 4/8/16.
 RTC_API void rtcIntersect4(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit4* rayhit) {
-  query(scene, context, rayhit, [&](QueryDispatch& d) {
-    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 4);
-  });
+  intersectPacket(valid, scene, context, reinterpret_cast<RTCRayHitN*>(rayhit), 4);
 }
 
 RTC_API void rtcIntersect8(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit8* rayhit) {
-  query(scene, context, rayhit, [&](QueryDispatch& d) {
-    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 8);
-  });
+  intersectPacket(valid, scene, context, reinterpret_cast<RTCRayHitN*>(rayhit), 8);
 }
 
 RTC_API void rtcIntersect16(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16* rayhit) {
-  query(scene, context, rayhit, [&](QueryDispatch& d) {
-    d.intersectPacket(valid, reinterpret_cast<RTCRayHitN*>(rayhit), 16);
-  });
+  intersectPacket(valid, scene, context, reinterpret_cast<RTCRayHitN*>(rayhit), 16);
 }
 
 RTC_API void rtcOccluded4(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay4* ray) {
-  query(scene, context, ray, [&](QueryDispatch& d) {
-    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 4);
-  });
+  occludedPacket(valid, scene, context, reinterpret_cast<RTCRayN*>(ray), 4);
 }
 
 RTC_API void rtcOccluded8(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay8* ray) {
-  query(scene, context, ray, [&](QueryDispatch& d) {
-    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 8);
-  });
+  occludedPacket(valid, scene, context, reinterpret_cast<RTCRayN*>(ray), 8);
 }
 
 RTC_API void rtcOccluded16(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16* ray) {
-  query(scene, context, ray, [&](QueryDispatch& d) {
-    d.occludedPacket(valid, reinterpret_cast<RTCRayN*>(ray), 16);
-  });
+  occludedPacket(valid, scene, context, reinterpret_cast<RTCRayN*>(ray), 16);
 }
 
 RTC_API void rtcIntersect1M(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit, unsigned int M,

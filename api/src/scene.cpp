@@ -366,7 +366,7 @@ void Scene::rebuild() {
   });
   ++buildGeneration_;
   builtForDirectRays_ = !needsCallbacks_ && accel_.wideTrianglesOnly();
-  if (builtForDirectRays_) builtEntry_ = accel_.singleRayEntry();
+  if (builtForDirectRays_) builtEntry_ = accel_.queryEntry();
   if (device_->config().verbose >= 2) printBuildStatistics(refitted, std::chrono::steady_clock::now() - started);
 
   // Reported after the build (post = true): the application counts it even when it cancels, so it

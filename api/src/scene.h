@@ -53,7 +53,7 @@ class Scene : public RefCounted {
   // (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context brings one. Set
   // by commit and cleared by every change, where three conditions (and the context's filter) were
   // tested at every ray.
-  const SingleRayEntry* directEntry() const { return directEntry_.load(std::memory_order_relaxed); }
+  const QueryEntry* directEntry() const { return directEntry_.load(std::memory_order_relaxed); }
   // The device's ray_mask setting, read at every direct ray (a copy here spares the load of the device).
   bool rayMasks() const { return rayMasks_; }
   uint64_t buildGeneration() const { return buildGeneration_; }
@@ -84,8 +84,8 @@ class Scene : public RefCounted {
   std::vector<Ref<Geometry>> builtGeometries_;
   std::vector<uint64_t> builtChildGenerations_;  // instanced scenes' generations at the last build
   bool needsCallbacks_ = false;
-  std::atomic<const SingleRayEntry*> directEntry_{nullptr};
-  SingleRayEntry builtEntry_;  // what directEntry_ points to when set
+  std::atomic<const QueryEntry*> directEntry_{nullptr};
+  QueryEntry builtEntry_;  // what directEntry_ points to when set
   bool builtForDirectRays_ = false;  // the last build: one wide triangle tree, no callbacks
   const bool rayMasks_;
   uint64_t buildGeneration_ = 0;

@@ -400,11 +400,11 @@ bool SceneAccel::occludedOrientedWideTriangles(const Ray& ray, const QueryState&
   return !triangleOrientedWideView4_.empty() && intersectAnyOrientedWide(triangleOrientedWideView4_, ray, state, counters);
 }
 
-SingleRayEntry SceneAccel::singleRayEntry() const {
-  if (layout_ == AccelLayout::Bvh8) return obvh::singleRayEntry(triangleView8_);
-  if (layout_ == AccelLayout::Bvh4) return obvh::singleRayEntry(triangleView4_);
-  // The oriented layouts choose their kernels inside (intersectClosestOrientedWide).
-  SingleRayEntry entry;
+QueryEntry SceneAccel::queryEntry() const {
+  if (layout_ == AccelLayout::Bvh8) return obvh::queryEntry(triangleView8_);
+  if (layout_ == AccelLayout::Bvh4) return obvh::queryEntry(triangleView4_);
+  // The oriented layouts choose their kernels inside (intersectClosestOrientedWide, intersectPacket).
+  QueryEntry entry;
   entry.target = this;
   auto closest = [](const void* accel, Ray& ray, Hit& hit, const QueryState& state) {
     return static_cast<const SceneAccel*>(accel)->intersectOrientedWideTriangles(ray, hit, state, nullptr);
@@ -414,6 +414,12 @@ SingleRayEntry SceneAccel::singleRayEntry() const {
   };
   entry.closest[0] = entry.closest[1] = closest;
   entry.any[0] = entry.any[1] = any;
+  entry.closestPacket = [](const void* accel, Ray* rays, Hit* hits, uint32_t active, const QueryState& state) {
+    return static_cast<const SceneAccel*>(accel)->intersectPacket(rays, hits, active, state);
+  };
+  entry.anyPacket = [](const void* accel, const Ray* rays, uint32_t active, const QueryState& state) {
+    return static_cast<const SceneAccel*>(accel)->occludedPacket(rays, active, state);
+  };
   return entry;
 }
 

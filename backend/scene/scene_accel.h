@@ -22,7 +22,7 @@
 #include "traversal/traversal_counters.h"
 #include "traversal/point_query_callbacks.h"
 #include "traversal/query_callbacks.h"
-#include "traversal/single_ray_entry.h"
+#include "traversal/query_entry.h"
 
 namespace obvh {
 
@@ -58,7 +58,7 @@ class SceneAccel {
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
   // Whether the scene is one wide triangle tree (axis-aligned or oriented) and nothing else (no
   // instances, user geometry or shapes). Its single rays may then skip intersect()'s dispatch and
-  // take singleRayEntry()'s kernels, which test the wide triangle tree alone, as the two functions
+  // take queryEntry()'s kernels, which test the wide triangle tree alone, as the two functions
   // below do (intersect() and occluded() use them for the axis-aligned layouts). They count nothing.
   bool wideTrianglesOnly() const {
     return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4 || orientedWide()) && objectBvh_.empty();
@@ -73,9 +73,9 @@ class SceneAccel {
     if (layout_ == AccelLayout::Bvh4) return !triangleView4_.empty() && intersectAnyWide(triangleView4_, ray, state);
     return occludedOrientedWideTriangles(ray, state, nullptr);
   }
-  // The queries of a wideTrianglesOnly() scene as a SingleRayEntry, chosen once (the layout and its
+  // The queries of a wideTrianglesOnly() scene as a QueryEntry, chosen once (the layout and its
   // kernels): valid until the next build or refit.
-  SingleRayEntry singleRayEntry() const;
+  QueryEntry queryEntry() const;
   // Packets of up to kMaxPacketSize rays (lane i active when bit i of active is set): the same
   // answers as intersect/occluded per lane; the wide layouts trace the triangles as one packet.
   // Return the mask of lanes that hit / are occluded.

@@ -7,7 +7,7 @@
 
 namespace obvh {
 
-// A kernel called through SingleRayEntry, whose target is the view.
+// A kernel called through QueryEntry, whose target is the view.
 template <int N, auto kKernel>
 bool closestOfView(const void* view, Ray& ray, Hit& hit, const QueryState& state) {
   return kKernel(*static_cast<const TriangleWideView<N>*>(view), ray, hit, state);
@@ -15,6 +15,14 @@ bool closestOfView(const void* view, Ray& ray, Hit& hit, const QueryState& state
 template <int N, auto kKernel>
 bool anyOfView(const void* view, const Ray& ray, const QueryState& state) {
   return kKernel(*static_cast<const TriangleWideView<N>*>(view), ray, state);
+}
+template <int N, auto kKernel>
+uint32_t closestPacketOfView(const void* view, Ray* rays, Hit* hits, uint32_t active, const QueryState& state) {
+  return kKernel(*static_cast<const TriangleWideView<N>*>(view), rays, hits, active, state);
+}
+template <int N, auto kKernel>
+uint32_t anyPacketOfView(const void* view, const Ray* rays, uint32_t active, const QueryState& state) {
+  return kKernel(*static_cast<const TriangleWideView<N>*>(view), rays, active, state);
 }
 
 // One table per child order of closest-hit single rays (packets and any-hit queries are the same
@@ -33,7 +41,9 @@ const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
                                                  {&closestOfView<N, &intersectClosestWideImpl<FN, F4>>,
                                                   &closestOfView<N, &intersectClosestWideImpl<FN, F4, false, true, true>>},
                                                  {&anyOfView<N, &intersectAnyWideImpl<FN, F4>>,
-                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>}};
+                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>},
+                                                 &closestPacketOfView<N, &intersectClosestWidePacketImpl<FN, F4>>,
+                                                 &anyPacketOfView<N, &intersectAnyWidePacketImpl<FN, F4>>};
   static const WideKernels<FN::kWidth> laneOrder{&intersectClosestWideImpl<FN, F4, false, false>,
                                                  &intersectAnyWideImpl<FN, F4>,
                                                  &intersectClosestWidePacketImpl<FN, F4>,
@@ -45,7 +55,9 @@ const WideKernels<FN::kWidth>& makeWideKernels(ChildOrder order) {
                                                  {&closestOfView<N, &intersectClosestWideImpl<FN, F4, false, false>>,
                                                   &closestOfView<N, &intersectClosestWideImpl<FN, F4, false, false, true>>},
                                                  {&anyOfView<N, &intersectAnyWideImpl<FN, F4>>,
-                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>}};
+                                                  &anyOfView<N, &intersectAnyWideImpl<FN, F4, false, true>>},
+                                                 &closestPacketOfView<N, &intersectClosestWidePacketImpl<FN, F4>>,
+                                                 &anyPacketOfView<N, &intersectAnyWidePacketImpl<FN, F4>>};
   return order == ChildOrder::NearToFar ? nearToFar : laneOrder;
 }
 

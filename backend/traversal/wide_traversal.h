@@ -7,7 +7,7 @@
 
 #include "builders/build_options.h"
 #include "bvh/wide_bvh.h"
-#include "traversal/single_ray_entry.h"
+#include "traversal/query_entry.h"
 #include "traversal/triangle_leaf.h"
 
 namespace obvh {
@@ -59,22 +59,26 @@ struct WideKernels {
   // answers, from a walk that lets the branch predictor guess the next child (wide_walk.h).
   bool (*closestCoherent)(const TriangleWideView<N>& bvh, Ray& ray, Hit& hit, const QueryState& state);
   bool (*anyCoherent)(const TriangleWideView<N>& bvh, const Ray& ray, const QueryState& state);
-  // closest, closestCoherent, any and anyCoherent for a SingleRayEntry whose target is the view
-  // (each jumps to its kernel).
-  SingleRayEntry::Closest closestOfView[2];
-  SingleRayEntry::Any anyOfView[2];
+  // closest, closestCoherent, any, anyCoherent, closestPacket and anyPacket for a QueryEntry whose
+  // target is the view (each jumps to its kernel).
+  QueryEntry::Closest closestOfView[2];
+  QueryEntry::Any anyOfView[2];
+  QueryEntry::ClosestPacket closestPacketOfView;
+  QueryEntry::AnyPacket anyPacketOfView;
 };
 
 // The entry of a view: its own kernels, or the empty structure's.
 template <int N>
-SingleRayEntry singleRayEntry(const TriangleWideView<N>& view) {
-  SingleRayEntry entry;
+QueryEntry queryEntry(const TriangleWideView<N>& view) {
+  QueryEntry entry;
   if (view.empty()) return entry;
   entry.target = &view;
   for (int coherent = 0; coherent < 2; ++coherent) {
     entry.closest[coherent] = view.kernels->closestOfView[coherent];
     entry.any[coherent] = view.kernels->anyOfView[coherent];
   }
+  entry.closestPacket = view.kernels->closestPacketOfView;
+  entry.anyPacket = view.kernels->anyPacketOfView;
   return entry;
 }
 

@@ -1,7 +1,7 @@
-// rtcIntersect1 / rtcOccluded1 take a short path straight to the triangle kernels when a scene is
-// one wide triangle tree with nothing to call back. These tests pin down when it must not be
-// taken: while traversal steps are counted, with a context filter, and before a commit; and that
-// it answers in every wide layout.
+// rtcIntersect1 / rtcOccluded1 and the packet queries take a short path straight to the triangle
+// kernels when a scene is one wide triangle tree with nothing to call back. These tests pin down
+// when it must not be taken (while traversal steps are counted, with a context filter, before a
+// commit) and that it answers in every wide layout.
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 #include <obvh/traversal_statistics.h>
@@ -195,6 +195,55 @@ TEST_P(SingleRayPath, BothWalksAnswerAndAnEmptySceneMisses) {
   rtcOccluded1(empty, &context, &shadow);
   EXPECT_EQ(shadow.tfar, std::numeric_limits<float>::infinity());
   EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_NONE);
+  rtcReleaseScene(empty);
+}
+
+// Packets take the same short path: lanes follow the valid mask, hits are written whole.
+TEST_P(SingleRayPath, PacketsAnswerLaneByLane) {
+  rtcCommitScene(scene);
+  RTCScene empty = rtcNewScene(device);
+  rtcCommitScene(empty);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  constexpr int kLanes = 8;
+  const int valid[kLanes] = {-1, 0, -1, -1, 0, -1, -1, -1};
+  RTCRayHit8 packet{};
+  RTCRay8 shadows{};
+  for (int lane = 0; lane < kLanes; ++lane) {
+    const RTCRayHit one = rayDown();
+    // Lane k looks down onto square 2k + 1, lane 7 past the end of the row.
+    const float x = lane == 7 ? 70.f : 2.f * float(lane) + 1.3f;
+    packet.ray.org_x[lane] = shadows.org_x[lane] = x;
+    packet.ray.org_y[lane] = shadows.org_y[lane] = one.ray.org_y;
+    packet.ray.org_z[lane] = shadows.org_z[lane] = one.ray.org_z;
+    packet.ray.dir_z[lane] = shadows.dir_z[lane] = one.ray.dir_z;
+    packet.ray.tfar[lane] = shadows.tfar[lane] = one.ray.tfar;
+    packet.ray.mask[lane] = shadows.mask[lane] = one.ray.mask;
+    packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCRayHit8 inEmpty = packet;
+  RTCRay8 shadowsInEmpty = shadows;
+  rtcIntersect8(valid, scene, &context, &packet);
+  rtcOccluded8(valid, scene, &context, &shadows);
+  rtcIntersect8(valid, empty, &context, &inEmpty);
+  rtcOccluded8(valid, empty, &context, &shadowsInEmpty);
+  EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_NONE);
+  const float infinity = std::numeric_limits<float>::infinity();
+  for (int lane = 0; lane < kLanes; ++lane) {
+    SCOPED_TRACE(lane);
+    const bool hits = valid[lane] == -1 && lane != 7;
+    EXPECT_EQ(packet.hit.geomID[lane], hits ? 0u : RTC_INVALID_GEOMETRY_ID);
+    EXPECT_EQ(packet.ray.tfar[lane], hits ? 5.f : infinity);
+    EXPECT_EQ(shadows.tfar[lane], hits ? -infinity : infinity);
+    EXPECT_EQ(inEmpty.hit.geomID[lane], RTC_INVALID_GEOMETRY_ID);
+    EXPECT_EQ(shadowsInEmpty.tfar[lane], infinity);
+    if (!hits) continue;
+    EXPECT_EQ(packet.hit.primID[lane], 4u * unsigned(lane) + 3u);  // the upper-left half of square 2k + 1
+    EXPECT_EQ(packet.hit.instID[0][lane], RTC_INVALID_GEOMETRY_ID);
+    EXPECT_EQ(packet.hit.Ng_z[lane], 1.f);
+    EXPECT_NEAR(packet.hit.u[lane], 0.3f, 1e-6f);
+    EXPECT_NEAR(packet.hit.v[lane], 0.1f, 1e-6f);
+  }
   rtcReleaseScene(empty);
 }
 
