@@ -48,11 +48,11 @@ class Scene : public RefCounted {
   Geometry* builtGeometry(unsigned geomID) const { return builtGeometries_[geomID].get(); }
   // Whether queries must call back into the API (filters or user geometry somewhere below).
   bool needsCallbacks() const { return needsCallbacks_; }
-  // The kernels single rays take past the general query path (query_dispatch.h), or null when they
-  // may not: committed, one wide triangle tree, no callbacks. A scene that accepts context filters
-  // (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context brings one. Set
-  // by commit and cleared by every change, where three conditions (and the context's filter) were
-  // tested at every ray.
+  // The kernels single rays and packets take past the general query path (query_dispatch.h), or
+  // null when they may not: committed, one wide triangle tree, no callbacks. A scene that accepts
+  // context filters (RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION) never does, whether or not a context
+  // brings one. Set by commit and cleared by every change, where three conditions (and the
+  // context's filter) were tested at every ray.
   const QueryEntry* directEntry() const { return directEntry_.load(std::memory_order_relaxed); }
   // The device's ray_mask setting, read at every direct ray (a copy here spares the load of the device).
   bool rayMasks() const { return rayMasks_; }

@@ -57,9 +57,10 @@ class SceneAccel {
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, const QueryState& state, TraversalCounters* counters = nullptr) const;
   // Whether the scene is one wide triangle tree (axis-aligned or oriented) and nothing else (no
-  // instances, user geometry or shapes). Its single rays may then skip intersect()'s dispatch and
-  // take queryEntry()'s kernels, which test the wide triangle tree alone, as the two functions
-  // below do (intersect() and occluded() use them for the axis-aligned layouts). They count nothing.
+  // instances, user geometry or shapes). Its single rays and packets may then skip intersect()'s
+  // dispatch and take queryEntry()'s kernels, which test the wide triangle tree alone, as the two
+  // functions below do (intersect() and occluded() use them for the axis-aligned layouts). They
+  // count nothing.
   bool wideTrianglesOnly() const {
     return (layout_ == AccelLayout::Bvh8 || layout_ == AccelLayout::Bvh4 || orientedWide()) && objectBvh_.empty();
   }
