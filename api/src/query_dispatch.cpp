@@ -228,8 +228,8 @@ void writeFoundLanesOneByOne(uint32_t found, const Ray* rays, const Hit* hits, R
 // writeFoundLanesOneByOne for lanes in eights on CPUs with AVX2 (the lanes gathered in eights): a
 // Hit's eight fields transposed over eight lanes are RTCHitN's eight rows, blended into them under
 // the found lanes' mask; the other lanes keep their values (their hits, never written, are loaded
-// but not stored). Coherent rtcIntersect8 packets on the bunny took
-// 30 instructions fewer each than lane by lane (callgrind).
+// but not stored). Coherent rtcIntersect8 packets on the bunny took 30 instructions fewer each than
+// lane by lane (callgrind).
 __attribute__((target("avx2"))) void writeFoundLanesByEights(uint32_t found, const Ray* rays, const Hit* hits,
                                                              RTCRayN* rayN, RTCHitN* hitN, unsigned N, unsigned first,
                                                              unsigned count) {
