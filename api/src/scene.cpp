@@ -250,6 +250,12 @@ bool Scene::wantsRefit() const {
   if (builtGeometries_.size() != geometries_.size()) return false;
   for (size_t id = 0; id < geometries_.size(); ++id)
     if (builtGeometries_[id].get() != geometries_[id].get()) return false;
+  return refitsLater();
+}
+
+// Whether a later commit of the same geometries would refit (wantsRefit): every geometry a triangle
+// or quad mesh of RTC_BUILD_QUALITY_REFIT. Only then does a build keep what a refit needs.
+bool Scene::refitsLater() const {
   bool any = false;
   for (const Ref<Geometry>& g : geometries_) {
     if (!g) continue;
@@ -334,6 +340,7 @@ void Scene::rebuild() {
   options.layout = device_->config().accel;
   options.intersector = (flags_ & RTC_SCENE_FLAG_ROBUST) ? IntersectorMode::Watertight : device_->config().intersector;
   options.childOrder = device_->config().childOrder;
+  options.keepBinaryTree = refitsLater();
   options.quality = quality_ == RTC_BUILD_QUALITY_HIGH  ? BuildQuality::High
                     : quality_ == RTC_BUILD_QUALITY_LOW ? BuildQuality::Low
                                                         : BuildQuality::Medium;

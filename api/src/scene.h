@@ -66,6 +66,7 @@ class Scene : public RefCounted {
   bool needsRebuild() const;
   void rebuild();
   bool wantsRefit() const;
+  bool refitsLater() const;
   void markModified() {
     modified_ = true;
     directEntry_ = nullptr;

@@ -3,6 +3,7 @@
 // test covers every child box; leaves reference groups of four triangles (TriangleBlock4).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -64,13 +65,23 @@ struct CollapseOptions {
   uint32_t maxLeafPrims = 4;  // SahOptimal: largest merged leaf (at most 4 * kMaxLeafBlocks)
 };
 
-// trianglesInLeafOrder are the binary tree's triangles ordered by its primIndices; the binary
-// tree's leaves may hold at most 4 * kMaxLeafBlocks triangles.
-template <int N>
-WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder,
-                          const CollapseOptions& options = {});
+// The binary tree's triangles in its leaf order: triangles[i], or triangles[order[i]] when the
+// triangles are still in the order they were collected (order: the tree's primIndices), so that
+// a scene that keeps no copy of them in leaf order need not make one for the collapse.
+struct TrianglesInLeafOrder {
+  const StoredTriangle* triangles = nullptr;
+  const uint32_t* order = nullptr;
+  TrianglesInLeafOrder(const StoredTriangle* inLeafOrder) : triangles(inLeafOrder) {}  // NOLINT: implicit
+  TrianglesInLeafOrder(const StoredTriangle* collected, const uint32_t* primIndices)
+      : triangles(collected), order(primIndices) {}
+  const StoredTriangle& operator[](size_t i) const { return triangles[order ? order[i] : i]; }
+};
 
-extern template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
-extern template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
+// The binary tree's leaves may hold at most 4 * kMaxLeafBlocks triangles.
+template <int N>
+WideBvh<N> collapseToWide(const BinaryBvh& binary, TrianglesInLeafOrder triangles, const CollapseOptions& options = {});
+
+extern template WideBvh<4> collapseToWide<4>(const BinaryBvh&, TrianglesInLeafOrder, const CollapseOptions&);
+extern template WideBvh<8> collapseToWide<8>(const BinaryBvh&, TrianglesInLeafOrder, const CollapseOptions&);
 
 }  // namespace obvh

@@ -20,7 +20,7 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 template <int N>
 class WideWriter {
  public:
-  WideWriter(const BinaryBvh& binary, const StoredTriangle* triangles, WideBvh<N>& out)
+  WideWriter(const BinaryBvh& binary, TrianglesInLeafOrder triangles, WideBvh<N>& out)
       : binary_(binary), triangles_(triangles), out_(out) {}
 
   // A node whose first `count` lanes are the given binary nodes; emitChild(binary index) returns a
@@ -71,8 +71,12 @@ class WideWriter {
   }
 
   uint32_t writeLeafAt(uint32_t firstBlock, uint32_t first, uint32_t count) {
-    for (uint32_t b = 0; b < blockCount(count); ++b)
-      out_.blocks[firstBlock + b].fill(triangles_ + first + 4 * b, int(std::min<uint32_t>(4, count - 4 * b)));
+    for (uint32_t b = 0; b < blockCount(count); ++b) {
+      const int lanes = int(std::min<uint32_t>(4, count - 4 * b));
+      StoredTriangle block[4];
+      for (int lane = 0; lane < lanes; ++lane) block[lane] = triangles_[first + 4 * b + uint32_t(lane)];
+      out_.blocks[firstBlock + b].fill(block, lanes);
+    }
     return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount(count);
   }
 
@@ -82,7 +86,7 @@ class WideWriter {
 
  private:
   const BinaryBvh& binary_;
-  const StoredTriangle* triangles_;
+  TrianglesInLeafOrder triangles_;
   WideBvh<N>& out_;
 };
 
@@ -262,10 +266,10 @@ class SahCollapser {
 }  // namespace
 
 template <int N>
-WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* trianglesInLeafOrder, const CollapseOptions& options) {
+WideBvh<N> collapseToWide(const BinaryBvh& binary, TrianglesInLeafOrder triangles, const CollapseOptions& options) {
   WideBvh<N> out;
   if (binary.empty()) return out;
-  WideWriter<N> writer(binary, trianglesInLeafOrder, out);
+  WideWriter<N> writer(binary, triangles, out);
   if (options.method == CollapseMethod::SahOptimal) {
     out.rootChild = SahCollapser<N>(writer, options.maxLeafPrims).write();
   } else {
@@ -276,7 +280,7 @@ WideBvh<N> collapseToWide(const BinaryBvh& binary, const StoredTriangle* triangl
   return out;
 }
 
-template WideBvh<4> collapseToWide<4>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
-template WideBvh<8> collapseToWide<8>(const BinaryBvh&, const StoredTriangle*, const CollapseOptions&);
+template WideBvh<4> collapseToWide<4>(const BinaryBvh&, TrianglesInLeafOrder, const CollapseOptions&);
+template WideBvh<8> collapseToWide<8>(const BinaryBvh&, TrianglesInLeafOrder, const CollapseOptions&);
 
 }  // namespace obvh

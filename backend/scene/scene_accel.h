@@ -85,7 +85,8 @@ class SceneAccel {
   // The triangle tree's SAH cost as Embree's verbose statistics compute it (bvh/tree_statistics.h);
   // the oriented layouts report their binary tree's.
   double statisticsSah() const;
-  // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary tree).
+  // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary
+  // tree, which only builds with BuildOptions::keepBinaryTree keep: std::logic_error otherwise).
   LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when
   // instance is null); returns true when any callback reported a change.
@@ -147,7 +148,8 @@ class SceneAccel {
                                bool occlusion, WatertightRayOnDemand& watertight) const;
   void buildTriangleTree(CollectedPrimitives& collected, const BuildOptions& options);
   bool orientedBoxesPayOff() const;
-  void makeTriangleViews();
+  void makeTriangleViews(TrianglesInLeafOrder trianglesInLeafOrder);
+  void releaseBinaryTree();
   bool intersectObjects(Ray& ray, Hit& hit, const QueryState& state) const;
   bool occludedObjects(const Ray& ray, const QueryState& state) const;
   static Ray toLocal(const Instance& instance, const Ray& ray);
@@ -168,6 +170,9 @@ class SceneAccel {
   BuildOptions options_;
   BuildOptions requested_;  // as passed to build(), for refit's same-options check
   std::vector<StoredTriangle> triangles_;
+  // Of the triangle tree, kept when the binary tree and triangles_ are released (releaseBinaryTree).
+  size_t triangleCount_ = 0, triangleLeafCount_ = 0;
+  Box3f triangleBounds_;
   // Instances and user primitives.
   BinaryBvh objectBvh_;
   std::vector<ObjectRef> objects_;

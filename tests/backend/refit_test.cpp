@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
+#include <stdexcept>
 
 #include "scene/scene_accel.h"
 #include "backend_mesh_desc.h"
@@ -52,6 +54,7 @@ TEST(Refit, RefittedTreeAnswersLikeAFreshBuildInEveryAabbLayout) {
     Animated scene;
     BuildOptions options;
     options.layout = layout;
+    options.keepBinaryTree = true;  // as the API asks when every mesh is RTC_BUILD_QUALITY_REFIT
     SceneAccel refitted;
     refitted.build(scene.desc, options);
     const size_t nodesBefore = refitted.triangleLayoutMetrics().nodeCount;
@@ -83,6 +86,7 @@ TEST(Refit, RefittedTreeAnswersLikeAFreshBuildInEveryAabbLayout) {
 TEST(Refit, RefusesWhatItCannotKeep) {
   Animated scene;
   BuildOptions options;
+  options.keepBinaryTree = true;
   SceneAccel accel;
   EXPECT_FALSE(accel.refit(scene.desc, options));  // nothing built yet
   accel.build(scene.desc, options);
@@ -99,6 +103,66 @@ TEST(Refit, RefusesWhatItCannotKeep) {
   SceneAccel obb;
   obb.build(scene.desc, oriented);
   EXPECT_FALSE(obb.refit(scene.desc, oriented));  // oriented frames are not refitted
+}
+
+// Records the primitives a point query visits (a fixed radius).
+class SphereQuery : public PointQueryCallbacks {
+ public:
+  explicit SphereQuery(float radius) : radius_(radius) {}
+  float radius() const override { return radius_; }
+  float time() const override { return 0.f; }
+  bool visit(const void*, uint32_t geomID, uint32_t primID, const PointQueryInstance*) override {
+    seen.insert((uint64_t(geomID) << 32) | primID);
+    return false;
+  }
+  std::set<uint64_t> seen;
+
+ private:
+  float radius_;
+};
+
+// A wide tree built without keepBinaryTree holds only its wide nodes and blocks: it answers as the
+// one that keeps its binary tree, holds less, and is rebuilt rather than refitted.
+TEST(Refit, WideTreesReleaseTheBinaryTreeUnlessKept) {
+  for (AccelLayout layout : {AccelLayout::Bvh4, AccelLayout::Bvh8}) {
+    Animated scene;
+    BuildOptions options;
+    options.layout = layout;
+    SceneAccel released;
+    released.build(scene.desc, options);
+    options.keepBinaryTree = true;
+    SceneAccel kept;
+    kept.build(scene.desc, options);
+    const SceneStats a = released.stats(), b = kept.stats();
+    EXPECT_EQ(a.primitiveCount, b.primitiveCount);
+    EXPECT_EQ(a.leafCount, b.leafCount);
+    EXPECT_EQ(a.nodeCount, b.nodeCount);
+    // The binary nodes and the triangle copy (48 bytes a triangle) are gone.
+    EXPECT_LE(a.memoryBytes + 48 * a.primitiveCount, b.memoryBytes) << "layout " << int(layout);
+    EXPECT_THROW(released.triangleLayoutMetrics(), std::logic_error);
+    const QueryState state;
+    for (const Ray& ray : rays(7)) {
+      Ray r1 = ray, r2 = ray;
+      Hit h1, h2;
+      ASSERT_EQ(released.intersect(r1, h1, state), kept.intersect(r2, h2, state));
+      ASSERT_EQ(r1.tfar, r2.tfar);
+      ASSERT_EQ(h1.primID, h2.primID);
+    }
+    EXPECT_EQ(released.linearBounds().first.upper.z, kept.linearBounds().first.upper.z);
+    // Point queries walk the wide tree instead: the same primitives.
+    for (const Vec3f& p : {Vec3f{0.5f, 0.5f, 0.5f}, Vec3f{0.1f, 0.9f, 0.3f}, Vec3f{2.f, 2.f, 2.f}}) {
+      SphereQuery fromReleased(0.2f), fromKept(0.2f);
+      released.pointQuery(p, fromReleased);
+      kept.pointQuery(p, fromKept);
+      EXPECT_EQ(fromReleased.seen, fromKept.seen) << "layout " << int(layout);
+      if (p.x < 1.f) {
+        EXPECT_FALSE(fromReleased.seen.empty());
+      }
+    }
+    scene.animate(1.f);
+    options.keepBinaryTree = false;
+    EXPECT_FALSE(released.refit(scene.desc, options)) << "layout " << int(layout);
+  }
 }
 
 }  // namespace

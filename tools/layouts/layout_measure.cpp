@@ -40,7 +40,17 @@ LayoutMeasure measureLayout(const SceneData& scene, const LayoutConfig& config, 
     buildTimes.push_back(millisecondsOf([&] { accel.build(desc, config.options); }));
   }
   m.buildMs = median(buildTimes);
-  const LayoutMetrics metrics = accel.triangleLayoutMetrics();
+  // The wide layouts release the binary tree the metrics measure unless asked to keep it: built
+  // once more, keeping it, for the metrics alone (memory and build time stay the scene's own).
+  const bool released =
+      !config.options.keepBinaryTree && (accel.layout() == AccelLayout::Bvh4 || accel.layout() == AccelLayout::Bvh8);
+  SceneAccel kept;
+  if (released) {
+    BuildOptions keep = config.options;
+    keep.keepBinaryTree = true;
+    kept.build(desc, keep);
+  }
+  const LayoutMetrics metrics = (released ? kept : accel).triangleLayoutMetrics();
   m.sahCost = metrics.sahCost;
   m.depthStdDev = metrics.depthStdDev;
   m.orientedNodeCount = metrics.orientedNodeCount;
