@@ -76,4 +76,40 @@ TEST(MemoryMonitor, ACancelBeforeAnAllocationFailsTheCallAndIsNotCounted) {
   rtcReleaseDevice(device);
 }
 
+// obvh's wide layouts hold only their wide tree once committed; a scene whose meshes are all of
+// RTC_BUILD_QUALITY_REFIT also keeps what a later refit needs (the binary tree and a copy of the
+// triangles), and gives it back when the meshes are no longer REFIT.
+TEST(MemoryMonitor, RefitMeshesKeepWhatARefitNeedsAndOtherMeshesDoNot) {
+  for (const char* config : {"accel=bvh4", "accel=bvh8"}) {
+    Ledger ledger;
+    RTCDevice device = rtcNewDevice(config);
+    if (!device) continue;  // bvh8 needs AVX2
+    rtcSetDeviceMemoryMonitorFunction(device, monitor, &ledger);
+    RTCScene scene = quadScene(device);
+    RTCGeometry quads = rtcGetGeometry(scene, 0);
+    rtcCommitScene(scene);
+    const long long released = ledger.bytes.load();
+    rtcSetGeometryBuildQuality(quads, RTC_BUILD_QUALITY_REFIT);
+    rtcCommitGeometry(quads);
+    rtcCommitScene(scene);
+    const long long kept = ledger.bytes.load();
+    // 200 triangles of 48 bytes at least, besides the binary nodes.
+    EXPECT_GE(kept, released + 200 * 48) << config;
+    auto* v = static_cast<float*>(rtcGetGeometryBufferData(quads, RTC_BUFFER_TYPE_VERTEX, 0));
+    for (int i = 0; i < 400; ++i) v[3 * i + 2] = 0.1f * std::sin(float(i));
+    rtcUpdateGeometryBuffer(quads, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(quads);
+    rtcCommitScene(scene);  // refitted: it still keeps the refit's data
+    EXPECT_GE(ledger.bytes.load(), released + 200 * 48) << config;
+    rtcSetGeometryBuildQuality(quads, RTC_BUILD_QUALITY_MEDIUM);
+    rtcCommitGeometry(quads);
+    rtcCommitScene(scene);
+    EXPECT_EQ(ledger.bytes.load(), released) << config;
+    EXPECT_EQ(rtcGetDeviceError(device), RTC_ERROR_NONE) << config;
+    rtcReleaseScene(scene);
+    EXPECT_EQ(ledger.bytes.load(), 0) << config;
+    rtcReleaseDevice(device);
+  }
+}
+
 }  // namespace
