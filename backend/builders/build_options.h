@@ -66,9 +66,10 @@ struct BuildOptions {
   WideCollapse collapse = WideCollapse::SahOptimal;
   int leafBlockSize = 1;          // primitives tested together (SIMD leaf blocks); the SAH counts whole blocks
   // The wide axis-aligned layouts (bvh4, bvh8) trace only their wide nodes and leaf blocks: the
-  // binary tree they were collapsed from and the scene's copy of every triangle are released after
-  // the collapse (about half of what a committed scene held) unless kept for a refit
-  // (RTC_BUILD_QUALITY_REFIT, SceneAccel::refit) or the layout study (triangleLayoutMetrics).
+  // binary tree they were collapsed from is released after the collapse, and no copy of the
+  // triangles in its leaf order is made (together about half of what a committed scene held),
+  // unless both are kept for a refit (RTC_BUILD_QUALITY_REFIT, SceneAccel::refit) or the layout
+  // study (triangleLayoutMetrics).
   bool keepBinaryTree = false;
   // Oriented layouts.
   ObbSplit obbSplit = ObbSplit::AabbSah;  // measured best on every slanted stack preset (README)

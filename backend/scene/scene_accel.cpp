@@ -314,8 +314,6 @@ void SceneAccel::makeTriangleViews(TrianglesInLeafOrder trianglesInLeafOrder) {
 void SceneAccel::releaseBinaryTree() {
   triangleBvh_ = BinaryBvh{};
   triangleView_ = TriangleBvhView{};
-  triangleView4_.set.triangles = nullptr;
-  triangleView8_.set.triangles = nullptr;
 }
 
 // The hybrid's whole-tree choice. Both layouts trace wide nodes, but an oriented child costs a

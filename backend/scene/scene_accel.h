@@ -86,7 +86,7 @@ class SceneAccel {
   // the oriented layouts report their binary tree's.
   double statisticsSah() const;
   // Shape and SAH cost of the triangle BVH in the layout it is traced in (bvh4/bvh8: their binary
-  // tree, which only builds with BuildOptions::keepBinaryTree keep: std::logic_error otherwise).
+  // tree, which a build keeps only with BuildOptions::keepBinaryTree; std::logic_error otherwise).
   LayoutMetrics triangleLayoutMetrics() const;
   // Visits every primitive whose bounds overlap the sphere around point (world space when
   // instance is null); returns true when any callback reported a change.
@@ -170,7 +170,7 @@ class SceneAccel {
   BuildOptions options_;
   BuildOptions requested_;  // as passed to build(), for refit's same-options check
   std::vector<StoredTriangle> triangles_;
-  // Of the triangle tree, kept when the binary tree and triangles_ are released (releaseBinaryTree).
+  // Of the triangle tree, still known once the binary tree is released (releaseBinaryTree).
   size_t triangleCount_ = 0, triangleLeafCount_ = 0;
   Box3f triangleBounds_;
   // Instances and user primitives.
