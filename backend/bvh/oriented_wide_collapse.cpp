@@ -28,7 +28,7 @@ class OrientedWriter {
     const uint32_t blockCount = (count + 3) / 4;
     out_.blocks.resize(out_.blocks.size() + blockCount);
     for (uint32_t b = 0; b < blockCount; ++b)
-      out_.blocks[firstBlock + b].fill(triangles_ + first + 4 * b, int(std::min<uint32_t>(4, count - 4 * b)));
+      out_.blocks[firstBlock + b].fill(triangles_, first + 4 * b, int(std::min<uint32_t>(4, count - 4 * b)));
     return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount;
   }
 

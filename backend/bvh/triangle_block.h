@@ -3,6 +3,7 @@
 // only its blocks: no second lookup into the scene's triangle array.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "intersect/triangle.h"
@@ -19,11 +20,15 @@ struct alignas(64) TriangleBlock4 {
 
   int usedLanes() const { return usedMask; }
   // Writes every field (no member starts initialized, so a table of blocks can be sized without
-  // a fill): lanes [0, count) from the triangles, 1 <= count <= 4. Padding lanes repeat the first
-  // triangle's vertices (finite arithmetic) and are left out of usedMask.
-  void fill(const StoredTriangle* triangles, int count) {
+  // a fill): lanes [0, count) from triangles[first], triangles[first + 1], ..., 1 <= count <= 4
+  // (triangles: anything indexable that yields a StoredTriangle, read in place: copied into a local
+  // array first, four StoredTriangles' member initializers cost a 192-byte fill per block).
+  // Padding lanes repeat the first triangle's vertices (finite arithmetic) and are left out of
+  // usedMask.
+  template <typename Triangles>
+  void fill(const Triangles& triangles, size_t first, int count) {
     for (int lane = 0; lane < 4; ++lane) {
-      const StoredTriangle& tri = triangles[lane < count ? lane : 0];
+      const StoredTriangle& tri = triangles[first + size_t(lane < count ? lane : 0)];
       const Vec3f* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
       for (int vertex = 0; vertex < 3; ++vertex)
         for (int axis = 0; axis < 3; ++axis) v[vertex][axis][lane] = (*corners[vertex])[axis];

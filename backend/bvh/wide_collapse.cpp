@@ -21,7 +21,7 @@ template <int N>
 class WideWriter {
  public:
   WideWriter(const BinaryBvh& binary, TrianglesInLeafOrder triangles, WideBvh<N>& out)
-      : binary_(binary), triangles_(triangles), out_(out) {}
+      : binary_(binary), triangles_(triangles), triangleCount_(uint32_t(binary.primIndices.size())), out_(out) {}
 
   // A node whose first `count` lanes are the given binary nodes; emitChild(binary index) returns a
   // lane's code.
@@ -71,22 +71,34 @@ class WideWriter {
   }
 
   uint32_t writeLeafAt(uint32_t firstBlock, uint32_t first, uint32_t count) {
-    for (uint32_t b = 0; b < blockCount(count); ++b) {
-      const int lanes = int(std::min<uint32_t>(4, count - 4 * b));
-      StoredTriangle block[4];
-      for (int lane = 0; lane < lanes; ++lane) block[lane] = triangles_[first + 4 * b + uint32_t(lane)];
-      out_.blocks[firstBlock + b].fill(block, lanes);
-    }
+    prefetchTriangles(first + count);
+    for (uint32_t b = 0; b < blockCount(count); ++b)
+      out_.blocks[firstBlock + b].fill(triangles_, first + 4 * b, int(std::min<uint32_t>(4, count - 4 * b)));
     return WideNode<N>::kLeafFlag | (firstBlock << 4) | blockCount(count);
   }
 
+  // Starts loading the triangles from `next` on, which the leaf written after this one reads
+  // (leaves are written in leaf order, each a contiguous range): read through primIndices, the
+  // collected triangles are scattered, and the block fill waited on every one of them (a third of
+  // the writer's samples on the stores right after their loads, perf, bunny).
+  void prefetchTriangles(uint32_t next) const {
+    const uint32_t end = std::min<uint32_t>(next + kPrefetchedTriangles, triangleCount_);
+    for (uint32_t i = next; i < end; ++i) {
+      const char* p = reinterpret_cast<const char*>(&triangles_[i]);
+      __builtin_prefetch(p);
+      __builtin_prefetch(p + sizeof(StoredTriangle) - 1);  // a triangle may straddle two lines
+    }
+  }
   static uint32_t blockCount(uint32_t prims) { return (prims + 3) / 4; }
 
   const BinaryBvh& binary() const { return binary_; }
 
  private:
+  // Eight: about the next leaf's (leaves hold four triangles or fewer on the meshes measured).
+  static constexpr uint32_t kPrefetchedTriangles = 8;
   const BinaryBvh& binary_;
   TrianglesInLeafOrder triangles_;
+  uint32_t triangleCount_;
   WideBvh<N>& out_;
 };
 

@@ -117,7 +117,7 @@ TEST(TriangleBlockLeaf, SegmentEndsAnswerLikeTheScalarTest) {
             if (!intersectWatertight(WatertightRay(ray), ray, tri.v0, tri.v1, tri.v2, exact)) continue;
             ++hitsChecked;
             TriangleBlock4 block;
-            block.fill(&tri, 1);
+            block.fill(&tri, 0, 1);
             for (int ends = 0; ends < 3; ++ends) {
               Ray segment = ray;
               if (ends == 0) segment.tfar = exact.t;  // ends at the hit: hits
@@ -186,7 +186,7 @@ TEST(TriangleBlockLeaf, DoublePrecisionLanesAnswerLikeTheScalarTest) {
         if (trial % 5 == 0) tris[trial % 4].v2 = tris[trial % 4].v1;  // zero area
         if (trial % 7 == 0) tris[(trial + 1) % 4].v2 = tris[(trial + 1) % 4].v0 * 2.f - tris[(trial + 1) % 4].v1;
         TriangleBlock4 block;
-        block.fill(tris, 4);
+        block.fill(tris, 0, 4);
         Ray ray;
         ray.dir = randomUnit(rng);
         ray.org = center - ray.dir * (size * (1.f + 4.f * unit(rng))) + randomUnit(rng) * (0.3f * size);
@@ -232,7 +232,7 @@ TEST(TriangleBlockLeaf, LanesBehindTheOriginAreDroppedOnlyWhenTheScalarTestRejec
           else tris[lane].v0 = c, tris[lane].v1 = b, tris[lane].v2 = far;           // across edge bc
         }
         TriangleBlock4 block;
-        block.fill(tris, 4);
+        block.fill(tris, 0, 4);
         const Vec3f normal = cross(b - a, c - a);
         const float normalLength = std::sqrt(dot(normal, normal));
         if (!(normalLength > 0.f)) continue;
