@@ -131,6 +131,12 @@ inline __m128 halfAreasOfThree(const SseBox box[3]) {
   return scratch;
 }
 
+struct Split {
+  int axis = -1;
+  int bin = 0;  // primitives in bins [0, bin) go left
+  float cost = std::numeric_limits<float>::infinity();
+};
+
 // Maps a centroid to its bin on each axis; binning and partitioning use this one computation, so
 // a primitive always lands on the side its bin was counted on.
 struct BinMapping {
@@ -154,23 +160,16 @@ struct BinMapping {
   void bins(simd::Float4Sse lower, simd::Float4Sse upper, int out[4]) const {
     min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin).truncate(out);
   }
-  int bin(const PrimRef& ref, int axis) const {
-    int out[4];
-    bins(refLower(ref), refUpper(ref), out);
-    return out[axis];
-  }
   // Bit a set when the box's bin along axis a lies below firstRight: the clamped value bins()
   // truncates, compared as a float (it lies in [0, binCount - 1], where trunc(v) < k exactly when
   // v < k), so no integers go through memory.
   int binsBelow(simd::Float4Sse lower, simd::Float4Sse upper, simd::Float4Sse firstRight) const {
     return lessMask(min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin), firstRight);
   }
-};
-
-struct Split {
-  int axis = -1;
-  int bin = 0;  // primitives in bins [0, bin) go left
-  float cost = std::numeric_limits<float>::infinity();
+  // Whether the primitive goes to the left of split (primitives in bins [0, split.bin) do).
+  bool goesLeft(const PrimRef& ref, const Split& split) const {
+    return (binsBelow(refLower(ref), refUpper(ref), simd::Float4Sse::broadcast(float(split.bin))) >> split.axis) & 1;
+  }
 };
 
 class BinnedSahBuilder {
@@ -339,11 +338,9 @@ class BinnedSahBuilder {
   size_t partitionMeasuring(size_t begin, size_t end, const BinMapping& mapping, const Split& split,
                             const Scratch& scratch, RangeInfo& left, RangeInfo& right) {
     PrimRef* refs = refs_.data();
-    const simd::Float4Sse firstRight = simd::Float4Sse::broadcast(float(split.bin));
     size_t nextLeft = begin, nextRight = end;
     for (size_t i = begin; i < end; ++i) {
-      const simd::Float4Sse lower = refLower(refs[i]), upper = refUpper(refs[i]);
-      const size_t toLeft = size_t(mapping.binsBelow(lower, upper, firstRight) >> split.axis) & 1;
+      const size_t toLeft = mapping.goesLeft(refs[i], split);
       nextRight -= toLeft ^ 1;
       copyRef(refs[i], scratch[toLeft ? nextLeft : nextRight]);
       nextLeft += toLeft;
@@ -421,7 +418,7 @@ class BinnedSahBuilder {
           middle = partitionMeasuring(begin, end, mapping, split, scratch, leftInfo, rightInfo);
           childInfoKnown = true;
         } else {  // large ranges: measure the children with the parallel reduction instead
-          auto goesLeft = [&](const PrimRef& ref) { return mapping.bin(ref, split.axis) < split.bin; };
+          auto goesLeft = [&](const PrimRef& ref) { return mapping.goesLeft(ref, split); };
           middle = size_t(std::partition(refs_.begin() + begin, refs_.begin() + end, goesLeft) - refs_.begin());
         }
       }
