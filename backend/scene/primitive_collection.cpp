@@ -47,9 +47,9 @@ bool loadQuad(const MeshDesc& mesh, size_t prim, uint32_t cellBase, StoredTriang
 }
 
 // The triangle of triangle-mesh primitive prim, as loadQuad loads a quad, without an early return
-// per corner and coordinate (one loader for three and four corners, branching on each, took about
-// 57 instructions a triangle more: callgrind, bunny): the triangle is written even when invalid,
-// and its slot dropped.
+// per corner (one loader for three and four corners, branching on each, took about 57 instructions
+// a triangle more: callgrind, bunny): the triangle is written even when invalid, and its slot
+// dropped.
 bool loadTriangle(const MeshDesc& mesh, size_t prim, StoredTriangle& out) {
   uint32_t index[3];
   std::memcpy(index, mesh.indices + prim * mesh.indexStride, sizeof(index));
@@ -58,7 +58,7 @@ bool loadTriangle(const MeshDesc& mesh, size_t prim, StoredTriangle& out) {
   bool valid = true;
   for (int c = 0; c < 3; ++c) {
     std::memcpy(xyz[c], mesh.vertices + size_t(index[c]) * mesh.vertexStride, sizeof(xyz[c]));
-    for (int k = 0; k < 3; ++k) valid &= std::fabs(xyz[c][k]) < kLargestValidCoordinate;  // NaN fails too
+    valid &= isValidVertex(xyz[c]);
   }
   out = {{xyz[0][0], xyz[0][1], xyz[0][2]}, {xyz[1][0], xyz[1][1], xyz[1][2]}, {xyz[2][0], xyz[2][1], xyz[2][2]},
          mesh.geomID, uint32_t(prim), TriangleKind::Triangle};
