@@ -157,14 +157,16 @@ struct BinMapping {
   // conversion, in SIMD: for the centroids of the node's own primitives (the only ones binned)
   // the same bins as clamping the truncated integers; a NaN lands in bin 0 either way (max returns
   // its second operand for NaN).
-  void bins(simd::Float4Sse lower, simd::Float4Sse upper, int out[4]) const {
-    min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin).truncate(out);
-  }
+  void bins(simd::Float4Sse lower, simd::Float4Sse upper, int out[4]) const { binValues(lower, upper).truncate(out); }
   // Bit a set when the box's bin along axis a lies below firstRight: the clamped value bins()
   // truncates, compared as a float (it lies in [0, binCount - 1], where trunc(v) < k exactly when
   // v < k), so no integers go through memory.
   int binsBelow(simd::Float4Sse lower, simd::Float4Sse upper, simd::Float4Sse firstRight) const {
-    return lessMask(min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin), firstRight);
+    return lessMask(binValues(lower, upper), firstRight);
+  }
+  // The bins as floats, clamped to [0, binCount - 1], before their truncation.
+  simd::Float4Sse binValues(simd::Float4Sse lower, simd::Float4Sse upper) const {
+    return min(max((lower + upper - origin) * scale, simd::Float4Sse::broadcast(0.f)), lastBin);
   }
   // Whether the primitive goes to the left of split (primitives in bins [0, split.bin) do).
   bool goesLeft(const PrimRef& ref, const Split& split) const {
