@@ -76,6 +76,9 @@ struct Float4Sse {
   friend Float4Sse bitsPlus(Float4Sse a, int32_t k) {
     return {_mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a.v), _mm_set1_epi32(k)))};
   }
+  friend Float4Sse bitsPlusLanes(Float4Sse a, Float4Sse b) {
+    return {_mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))};
+  }
   friend int bitsLessEqualMask(Float4Sse a, Float4Sse b) { return ~bitsGreaterMask(a, b) & 15; }
   friend int bitsGreaterMask(Float4Sse a, Float4Sse b) {
     return _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v))));

@@ -58,6 +58,9 @@ struct Float8Avx {
   OBVH_AVX2 friend Float8Avx bitsPlus(Float8Avx a, int32_t k) {
     return {_mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(a.v), _mm256_set1_epi32(k)))};
   }
+  OBVH_AVX2 friend Float8Avx bitsPlusLanes(Float8Avx a, Float8Avx b) {
+    return {_mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};
+  }
   OBVH_AVX2 friend int bitsLessEqualMask(Float8Avx a, Float8Avx b) {
     return ~bitsGreaterMask(a, b) & 255;
   }

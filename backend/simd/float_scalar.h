@@ -125,6 +125,12 @@ struct FloatScalar {
     for (int i = 0; i < N; ++i) r.v[i] = floatOf(int32_t(uint32_t(bitsOf(a.v[i])) + uint32_t(k)));
     return r;
   }
+  // Lane by lane, b's bits added to a's (wrapping as the SIMD integer add does).
+  friend FloatScalar bitsPlusLanes(FloatScalar a, FloatScalar b) {
+    FloatScalar r;
+    for (int i = 0; i < N; ++i) r.v[i] = floatOf(int32_t(uint32_t(bitsOf(a.v[i])) + uint32_t(bitsOf(b.v[i]))));
+    return r;
+  }
   friend int bitsLessEqualMask(FloatScalar a, FloatScalar b) {
     return maskOf(a, b, [](float x, float y) { return bitsOf(x) <= bitsOf(y); });
   }

@@ -43,12 +43,60 @@ inline constexpr NearRowBytes<N> kNearRowBytes[8] = {nearRowBytesFor<N>(0), near
                                                      nearRowBytesFor<N>(3), nearRowBytesFor<N>(4), nearRowBytesFor<N>(5),
                                                      nearRowBytesFor<N>(6), nearRowBytesFor<N>(7)};
 
+// How far the integer form raises the exit distance, in ulps: at least the relative 2 * gamma(3)
+// of Ize's scaling (kConservativeFarScale), which is under 6 ulps of any float, with room to spare.
+// An integer add, where the float form multiplies.
+constexpr int32_t kConservativeFarUlps = 8;
+
+// The float whose bits are -(kConservativeFarUlps + 1).
+inline float nearAllowanceValue() {
+  const int32_t bits = -(kConservativeFarUlps + 1);
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+// tnear +0 or positive, and finite: the integer forms' entries are then non-negative floats.
+inline bool tnearAllowsIntegerForm(float tnear) {
+  return !std::signbit(tnear) && tnear <= std::numeric_limits<float>::max();
+}
+
+// What the frame and the root-box test need of a ray's direction, worked out once a ray (both
+// computed it apart: the same division, and its checks twice, 20 instructions a ray). Lanes x, y,
+// z of F4; the fourth is 1, not the ray's time that follows dir (see Ray): 1/0 would raise the
+// division-by-zero flag for every ray, which an application trapping that exception would take
+// for its own error.
+template <typename F4>
+struct RayDirection {
+  F4 dir, inv;  // inv = 1/dir (a division is exact, so the same float however computed)
+  // Bit masks over the axes: 1/dir finite and non-zero (denormal directions overflow 1/dir, NaN
+  // fails the compares); the direction's sign bit set (so that a direction of -0 takes the planes
+  // of a negative one: the integer forms' zero axes rely on it).
+  int usable, negative;
+  // usable along every axis, and tnear +0 or positive: the ray's node tests take the integer form
+  // without zero axes (NodeTestForm::kBits), the form of nearly every ray.
+  bool integerForm;
+
+  [[gnu::always_inline]] explicit RayDirection(const Ray& ray) {
+    static_assert(offsetof(Ray, time) == offsetof(Ray, dir) + 3 * sizeof(float));
+    dir = F4::loadThree(&ray.dir.x, 1.f);
+    inv = F4::broadcast(1.f) / dir;
+    const F4 zero = F4::broadcast(0.f), largest = F4::broadcast(std::numeric_limits<float>::max());
+    usable = lessEqualMask(zero - largest, inv) & lessEqualMask(inv, largest) & ~equalMask(inv, zero) & 7;
+    negative = signMask(dir) & 7;
+    integerForm = usable == 7 && tnearAllowsIntegerForm(ray.tnear);
+  }
+};
+
 template <typename FN>
 struct WideRayFrame {
   // -1/dir: the slab distance (plane - org) * inv is computed as (org - plane) * negInv, the same
   // float (negation is exact), so that the node's plane is the memory operand of the subtraction.
   FN org[3], negInv[3];
   FN tnear;
+  // -(kConservativeFarUlps + 1) in every lane's bits (see intersectWideNode): kept with the frame, so
+  // that the node test adds it from memory rather than making it anew.
+  FN nearAllowance;
   // The rows of WideNode::bounds holding each axis' entry plane (entryRow) as byte offsets; the
   // exit plane's is nearByte ^ (bytes of a row). Three offsets, where six row indices were
   // reloaded from the stack at every node.
@@ -61,29 +109,36 @@ struct WideRayFrame {
 
   WideRayFrame() = default;
   // Always inlined: as a call (GCC kept it out of line) the frame went through memory. The three
-  // axes' reciprocals and their checks are one four-lane operation each (a division is exact, so
-  // 1/dir is the same float either way): axis by axis, the set-up took 148 instructions a ray, now
-  // 109 (callgrind, bunny primary rays, AVX2 kernel).
-  [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) {
-    using F4 = typename FN::Lanes4;
-    // The fourth lane is 1, not the ray's time that follows dir (see Ray): 1/0 would raise the
-    // division-by-zero flag for every ray, which an application trapping that exception would
-    // take for its own error.
-    static_assert(offsetof(Ray, time) == offsetof(Ray, dir) + 3 * sizeof(float));
-    const F4 dir = F4::loadThree(&ray.dir.x, 1.f);
-    const F4 inv = F4::broadcast(1.f) / dir;
+  // axes' reciprocals and their checks are one four-lane operation each (RayDirection): axis by
+  // axis, the set-up took 148 instructions a ray, then 109 (callgrind, bunny primary rays, AVX2
+  // kernel).
+  [[gnu::always_inline]] WideRayFrame(const Ray& ray, const RayDirection<typename FN::Lanes4>& d) {
+    broadcastRay(ray, d);
+    zeroAxes = equalMask(d.dir, FN::Lanes4::broadcast(0.f)) & 7;
+    // A ray that moves along no axis has no slab to reject an unused lane (see intersectWideNode).
+    bitOrdered = tnearAllowsIntegerForm(ray.tnear) && zeroAxes != 7 && (zeroAxes | d.usable) == 7;
+  }
+  [[gnu::always_inline]] explicit WideRayFrame(const Ray& ray) : WideRayFrame(ray, RayDirection<typename FN::Lanes4>(ray)) {}
+
+  // The frame of a ray whose direction analysis says integerForm: the checks' answers are known.
+  [[gnu::always_inline]] static WideRayFrame ofIntegerForm(const Ray& ray, const RayDirection<typename FN::Lanes4>& d) {
+    WideRayFrame frame;
+    frame.broadcastRay(ray, d);
+    frame.zeroAxes = 0;
+    frame.bitOrdered = true;
+    return frame;
+  }
+
+ private:
+  [[gnu::always_inline]] void broadcastRay(const Ray& ray, const RayDirection<typename FN::Lanes4>& d) {
     alignas(16) float invLanes[4];
-    inv.store(invLanes);
-    const F4 zero = F4::broadcast(0.f), largest = F4::broadcast(std::numeric_limits<float>::max());
-    // Denormal directions overflow 1/dir (NaN fails both compares): only the float form's min/max
-    // handles those with its NaN rules.
-    const int finite = lessEqualMask(zero - largest, inv) & lessEqualMask(inv, largest) & 7;
-    const int nonZeroInv = ~equalMask(inv, zero) & 7;
-    zeroAxes = equalMask(dir, zero) & 7;
-    // The sign bit, so that a direction of -0 takes the planes of a negative one (the integer
-    // forms' zero axes rely on it; rays moving along the axis see no difference).
-    const int negative = signMask(dir);
+    d.inv.store(invLanes);
     tnear = FN::broadcast(ray.tnear);
+    float allowance = nearAllowanceValue();
+    // Opaque to the compiler, which otherwise made the constant anew at every node (three
+    // instructions) rather than read it from the frame.
+    asm("" : "+x"(allowance));
+    nearAllowance = FN::broadcast(allowance);
     for (int axis = 0; axis < 3; ++axis) {
       org[axis] = FN::broadcast(ray.org[axis]);
       // A zero direction's 1/dir is inf (the integer form's infinite slab distances; the float
@@ -94,18 +149,10 @@ struct WideRayFrame {
     // picks, without computing both. Read from a table by the three sign bits rather than computed
     // axis by axis (with the triangle frame's uninitialized storage, triangle_leaf.h: 237.5 -> 226.2
     // instructions a bunny camera ray that misses, callgrind).
-    const NearRowBytes<FN::kWidth>& rows = kNearRowBytes<FN::kWidth>[negative & 7];
+    const NearRowBytes<FN::kWidth>& rows = kNearRowBytes<FN::kWidth>[d.negative];
     for (int axis = 0; axis < 3; ++axis) nearByte[axis] = rows.bytes[axis];
-    // A ray that moves along no axis has no slab to reject an unused lane (see intersectWideNode).
-    bitOrdered = !std::signbit(ray.tnear) && ray.tnear <= std::numeric_limits<float>::max() && zeroAxes != 7 &&
-                 (zeroAxes | (finite & nonZeroInv)) == 7;
   }
 };
-
-// How far the integer form raises the exit distance, in ulps: at least the relative 2 * gamma(3)
-// of Ize's scaling (kConservativeFarScale), which is under 6 ulps of any float, with room to spare.
-// An integer add, where the float form multiplies.
-constexpr int32_t kConservativeFarUlps = 8;
 
 // Which form of the node test a ray takes, decided once a ray (each a separate walk), not at every
 // node.
@@ -145,20 +192,17 @@ FN exitLimitLanes(float tfar) {
 // True when the ray enters none of the root node's children because its segment misses the box
 // around them (TriangleWideView::rootLower, rootUpper): such rays, half of a camera's over a single
 // object, then skip the node test's set-up (the eight-wide frame) and the root node's test. Only for
-// rays whose node tests take the integer form (NodeTestForm::kBits, the same conditions checked
-// here); others are never turned away. The box's planes lie outside its children's, and each step
+// rays whose node tests take the integer form (NodeTestForm::kBits: RayDirection::integerForm,
+// which the caller checks); others are never turned away. The box's planes lie outside its children's, and each step
 // (rounded subtraction and multiplication, max, min) is monotone, so the box's entry is no later and
 // its exit no earlier than any child's, with the same allowance of ulps: no ray that a child admits
 // is turned away.
 template <typename FN>
-[[gnu::always_inline]] inline bool missesRootBox(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray) {
+[[gnu::always_inline]] inline bool missesRootBox(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray,
+                                                 const RayDirection<typename FN::Lanes4>& d) {
   using F4 = typename FN::Lanes4;
-  const F4 dir = F4::loadThree(&ray.dir.x, 1.f);
-  const F4 inv = F4::broadcast(1.f) / dir;
-  const F4 zero = F4::broadcast(0.f), largest = F4::broadcast(std::numeric_limits<float>::max());
-  const int usable = lessEqualMask(zero - largest, inv) & lessEqualMask(inv, largest) & ~equalMask(inv, zero);
-  if ((usable & 7) != 7 || std::signbit(ray.tnear) || !(ray.tnear <= std::numeric_limits<float>::max())) return false;
-  const F4 org = F4::loadThree(&ray.org.x, 0.f), negInv = zero - inv;
+  const F4 zero = F4::broadcast(0.f);
+  const F4 org = F4::loadThree(&ray.org.x, 0.f), negInv = zero - d.inv;
   const F4 lower = F4::load(bvh.rootLower), upper = F4::load(bvh.rootUpper);
   // The planes entered and left first as the smaller and larger distance: the same floats as the
   // node test's planes chosen by the direction's sign.
@@ -223,7 +267,7 @@ template <NodeTestForm kForm, typename FN, int N>
     // multiplies to the mask shrank from five steps and two scalar ones to three.
     const FN farT = minOfBits(minOfBits(exitT[0], exitT[1]), minOfBits(exitT[2], tfarLanes));
     nearT.store(entry);
-    return bitsGreaterMask(farT, bitsPlus(nearT, -(kConservativeFarUlps + 1)));
+    return bitsGreaterMask(farT, bitsPlusLanes(nearT, r.nearAllowance));
   } else {
     FN nearT = r.tnear;
     FN farT = FN::broadcast(std::numeric_limits<float>::infinity());
@@ -287,25 +331,45 @@ struct AxisAlignedWideNodes {
 
 // Visits the leaves the ray enters from node start (a packet hands a ray over to it mid-tree);
 // see walkWideTree (kPredictLanes: for rays the application declared coherent, QueryState;
-// onEntering: the leaves' set-up, once the ray is known to enter the tree).
+// onEntering: the leaves' set-up, once the ray is known to enter the tree). kForm: the frame's
+// form (nodeTestFormOf).
+template <NodeTestForm kForm, typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest,
+          bool kPredictLanes = false, typename LeafVisitor, typename OnEntering = NothingOnEntering>
+[[gnu::always_inline]] inline void traverseWideInForm(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
+                                                    const WideRayFrame<FN>& frame, const Ray& ray,
+                                                    LeafVisitor&& leafVisitor, TraversalCounters* counters,
+                                                    OnEntering&& onEntering) {
+  walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(AxisAlignedWideNodes<FN, kForm>{bvh, frame}, start,
+                                                                       ray, leafVisitor, counters, onEntering);
+}
+
+// The same for a frame of either form other than NodeTestForm::kBits (traverseWide takes that one
+// apart, so that its kernels hold one copy of each walk).
+template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
+          typename LeafVisitor, typename OnEntering = NothingOnEntering>
+[[gnu::always_inline]] inline void traverseWideInOtherForms(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
+                                                          const WideRayFrame<FN>& frame, const Ray& ray,
+                                                          LeafVisitor&& leafVisitor, TraversalCounters* counters,
+                                                          OnEntering&& onEntering) {
+  if (nodeTestFormOf(frame) == NodeTestForm::kFloat)
+    return traverseWideInForm<NodeTestForm::kFloat, FN, kClosest, kCounted, kSorted, kPredictLanes>(
+        bvh, start, frame, ray, leafVisitor, counters, onEntering);
+  return traverseWideInForm<NodeTestForm::kBitsZeroAxes, FN, kClosest, kCounted, kSorted, kPredictLanes>(
+      bvh, start, frame, ray, leafVisitor, counters, onEntering);
+}
+
+// Any frame's form, chosen at the ray.
 template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClosest, bool kPredictLanes = false,
           typename LeafVisitor, typename OnEntering = NothingOnEntering>
 [[gnu::always_inline]] inline void traverseWideFrom(const TriangleWideView<FN::kWidth>& bvh, uint32_t start,
                                                   const WideRayFrame<FN>& frame, const Ray& ray,
                                                   LeafVisitor&& leafVisitor, TraversalCounters* counters = nullptr,
                                                   OnEntering&& onEntering = {}) {
-  switch (nodeTestFormOf(frame)) {
-    case NodeTestForm::kBits:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kBits>{bvh, frame}, start, ray, leafVisitor, counters, onEntering);
-    case NodeTestForm::kBitsZeroAxes:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kBitsZeroAxes>{bvh, frame}, start, ray, leafVisitor, counters,
-          onEntering);
-    case NodeTestForm::kFloat:
-      return walkWideTree<FN::kWidth, kClosest, kCounted, kSorted, kPredictLanes>(
-          AxisAlignedWideNodes<FN, NodeTestForm::kFloat>{bvh, frame}, start, ray, leafVisitor, counters, onEntering);
-  }
+  if (nodeTestFormOf(frame) == NodeTestForm::kBits)
+    return traverseWideInForm<NodeTestForm::kBits, FN, kClosest, kCounted, kSorted, kPredictLanes>(
+        bvh, start, frame, ray, leafVisitor, counters, onEntering);
+  return traverseWideInOtherForms<FN, kClosest, kCounted, kSorted, kPredictLanes>(bvh, start, frame, ray, leafVisitor,
+                                                                                  counters, onEntering);
 }
 
 // Always inlined into the kernel that calls it: as a call of its own (GCC kept it out of line) it
@@ -327,14 +391,21 @@ template <typename FN, bool kClosest, bool kCounted = false, bool kSorted = kClo
   // An empty segment enters nothing (the walk's first test), known before the frame's set-up: the
   // benchmark's shadow rays from primary rays that missed are such rays (tfar < tnear).
   if (ray.tnear > ray.tfar) return;
-  // Closest-hit rays only: any-hit ones (shadow rays from surface points) start inside the box,
-  // where the check only costs (motorBike shadow rays 3% slower with it). The counted walks keep
-  // the root node's test, whose box tests they count.
-  if constexpr (kClosest && !kCounted) {
-    if (missesRootBox<FN>(bvh, ray)) return;
+  const RayDirection<typename FN::Lanes4> direction(ray);
+  if (direction.integerForm) {
+    // Closest-hit rays only: any-hit ones (shadow rays from surface points) start inside the box,
+    // where the check only costs (motorBike shadow rays 3% slower with it). The counted walks keep
+    // the root node's test, whose box tests they count.
+    if constexpr (kClosest && !kCounted) {
+      if (missesRootBox<FN>(bvh, ray, direction)) return;
+    }
+    const WideRayFrame<FN> frame = WideRayFrame<FN>::ofIntegerForm(ray, direction);
+    return traverseWideInForm<NodeTestForm::kBits, FN, kClosest, kCounted, kSorted, kPredictLanes>(
+        bvh, bvh.root, frame, ray, leafVisitor, counters, onEntering);
   }
-  traverseWideFrom<FN, kClosest, kCounted, kSorted, kPredictLanes>(bvh, bvh.root, WideRayFrame<FN>(ray), ray,
-                                                                   leafVisitor, counters, onEntering);
+  const WideRayFrame<FN> frame(ray, direction);
+  traverseWideInOtherForms<FN, kClosest, kCounted, kSorted, kPredictLanes>(bvh, bvh.root, frame, ray, leafVisitor,
+                                                                           counters, onEntering);
 }
 
 // kSorted: children near to far, else in lane order (ChildOrder). kPredictLanes: the walk for rays

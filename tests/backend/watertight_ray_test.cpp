@@ -5,17 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "float_bits.h"
 #include "intersect/watertight_triangle.h"
 
 namespace obvh {
 namespace {
 
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using test::sameBits;
 
 void expectSameFrame(const Ray& ray) {
   const WatertightRay reference(ray);

@@ -14,6 +14,7 @@
 #include "scene/primitive_collection.h"
 #include "simd/cpu_features.h"
 #include "backend_mesh_desc.h"
+#include "float_bits.h"
 #include "test_scenes.h"
 #include "traversal/bvh2_traversal.h"
 #include "simd/float_scalar.h"
@@ -567,12 +568,12 @@ void expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes() {
       const float nan = std::numeric_limits<float>::quiet_NaN();
       ray.org[side(rng)] = nudge(rng) < 0 ? -nan : nan;
     }
-    const bool misses = missesRootBox<FN>(l.view, ray);
-    const WideRayFrame<FN> frame(ray);
-    if (nodeTestFormOf(frame) != NodeTestForm::kBits) {
-      EXPECT_FALSE(misses);
-      continue;
-    }
+    // The kernels check the box only for rays whose direction allows the integer form.
+    const RayDirection<typename FN::Lanes4> direction(ray);
+    const WideRayFrame<FN> frame(ray, direction);
+    ASSERT_EQ(direction.integerForm, nodeTestFormOf(frame) == NodeTestForm::kBits) << "ray " << i;
+    if (!direction.integerForm) continue;
+    const bool misses = missesRootBox<FN>(l.view, ray, direction);
     float entry[N];
     const int entered = intersectWideNode<NodeTestForm::kBits>(
         l.wide.nodes[l.wide.rootChild], frame, exitLimitLanes<NodeTestForm::kBits, FN>(ray.tfar), entry);
@@ -593,6 +594,60 @@ void expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes() {
 TEST(WideBvh, RootBoxTurnsAwayOnlyWhatTheRootNodeDoes) {
   expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes<4>();
   expectRootBoxTurnsAwayOnlyWhatTheRootNodeDoes<8>();
+}
+
+// The single-ray kernels make the integer form's frame apart (WideRayFrame::ofIntegerForm) for the
+// rays RayDirection::integerForm admits, without the frame's checks: those rays must be exactly the
+// rays whose frame takes that form, and get the same frame. Directions and tnear from the values
+// that decide it: zeros of either sign, denormals, infinities, NaN, negative values.
+template <int N>
+void expectIntegerFormShortcutMatchesTheFrame() {
+  using FN = simd::FloatScalar<N>;
+  using test::sameBits;
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float denormal = std::numeric_limits<float>::denorm_min() * 3.f;
+  const float components[] = {0.f, -0.f, 1.f, -2.5f, denormal, -denormal, inf, nan, 1e-30f};
+  const float tnears[] = {0.f, -0.f, 0.5f, -1.f, nan, inf, std::numeric_limits<float>::max()};
+  int shortcut = 0, other = 0;
+  for (float x : components)
+    for (float y : components)
+      for (float z : components)
+        for (float tnear : tnears) {
+          Ray ray;
+          ray.org = Vec3f{0.25f, -3.f, 7.f};
+          ray.dir = Vec3f{x, y, z};
+          ray.tnear = tnear;
+          ray.tfar = inf;
+          const RayDirection<typename FN::Lanes4> direction(ray);
+          const WideRayFrame<FN> frame(ray, direction);
+          ASSERT_EQ(direction.integerForm, nodeTestFormOf(frame) == NodeTestForm::kBits)
+              << x << " " << y << " " << z << " tnear " << tnear;
+          if (!direction.integerForm) {
+            ++other;
+            continue;
+          }
+          ++shortcut;
+          const WideRayFrame<FN> made = WideRayFrame<FN>::ofIntegerForm(ray, direction);
+          ASSERT_EQ(nodeTestFormOf(made), NodeTestForm::kBits);
+          for (int lane = 0; lane < N; ++lane) {
+            ASSERT_TRUE(sameBits(made.tnear.v[lane], frame.tnear.v[lane]));
+            ASSERT_TRUE(sameBits(made.nearAllowance.v[lane], frame.nearAllowance.v[lane]));
+            for (int axis = 0; axis < 3; ++axis) {
+              ASSERT_TRUE(sameBits(made.org[axis].v[lane], frame.org[axis].v[lane]));
+              ASSERT_TRUE(sameBits(made.negInv[axis].v[lane], frame.negInv[axis].v[lane]));
+            }
+          }
+          for (int axis = 0; axis < 3; ++axis) ASSERT_EQ(made.nearByte[axis], frame.nearByte[axis]);
+        }
+  // Along each axis 1, -2.5 and 1e-30 (1/dir finite and not zero), and tnear 0, 0.5 and the
+  // largest float (-0 has its sign bit set): 3 * 3 * 3 * 3 rays.
+  EXPECT_EQ(shortcut, 81);
+  EXPECT_GT(other, 100);
+}
+
+TEST(WideBvh, IntegerFormShortcutMatchesTheFrame) {
+  expectIntegerFormShortcutMatchesTheFrame<4>();
+  expectIntegerFormShortcutMatchesTheFrame<8>();
 }
 
 }  // namespace
