@@ -193,10 +193,10 @@ FN exitLimitLanes(float tfar) {
 // around them (TriangleWideView::rootLower, rootUpper): such rays, half of a camera's over a single
 // object, then skip the node test's set-up (the eight-wide frame) and the root node's test. Only for
 // rays whose node tests take the integer form (NodeTestForm::kBits: RayDirection::integerForm,
-// which the caller checks); others are never turned away. The box's planes lie outside its children's, and each step
-// (rounded subtraction and multiplication, max, min) is monotone, so the box's entry is no later and
-// its exit no earlier than any child's, with the same allowance of ulps: no ray that a child admits
-// is turned away.
+// which the caller checks). The box's planes lie outside its children's, and each step (rounded
+// subtraction and multiplication, max, min) is monotone, so the box's entry is no later and its
+// exit no earlier than any child's, with the same allowance of ulps: no ray that a child admits is
+// turned away.
 template <typename FN>
 [[gnu::always_inline]] inline bool missesRootBox(const TriangleWideView<FN::kWidth>& bvh, const Ray& ray,
                                                  const RayDirection<typename FN::Lanes4>& d) {
