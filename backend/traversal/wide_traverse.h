@@ -61,11 +61,10 @@ inline bool tnearAllowsIntegerForm(float tnear) {
   return !std::signbit(tnear) && tnear <= std::numeric_limits<float>::max();
 }
 
-// What the frame and the root-box test need of a ray's direction, worked out once a ray (both
-// computed it apart: the same division, and its checks twice, 20 instructions a ray). Lanes x, y,
-// z of F4; the fourth is 1, not the ray's time that follows dir (see Ray): 1/0 would raise the
-// division-by-zero flag for every ray, which an application trapping that exception would take
-// for its own error.
+// What the frame and the root-box test need of a ray's direction, worked out once a ray (each
+// made the division and its checks itself). Lanes x, y, z of F4; the fourth is 1, not the ray's
+// time that follows dir (see Ray): 1/0 would raise the division-by-zero flag for every ray, which
+// an application trapping that exception would take for its own error.
 template <typename F4>
 struct RayDirection {
   F4 dir, inv;  // inv = 1/dir (a division is exact, so the same float however computed)
