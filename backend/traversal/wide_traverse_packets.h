@@ -17,10 +17,11 @@
 namespace obvh {
 
 // A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
-// their direction signs and move along every axis: one child box is then tested against a whole
-// group with the same per-ray operations as intersectWideNode's integer form (near/far planes chosen
-// by sign, (org - plane) * -1/dir, the same max/min order), so every box decision stays the single
-// ray's.
+// their direction signs and, along each axis, all move or all do not (an orthographic camera's
+// rays move along one axis only): one child box is then tested against a whole group with the same
+// per-ray operations as intersectWideNode's integer forms (near/far planes chosen by the sign bit,
+// (org - plane) * -1/dir, the same max/min order, and for the axes the rays do not move along the
+// same infinite distances), so every box decision stays the single ray's.
 template <typename FN>
 struct PacketLanes {
   static constexpr int kLanes = FN::kWidth;
@@ -29,12 +30,15 @@ struct PacketLanes {
   alignas(32) float tnear[kMaxPacketSize];
   alignas(32) float tfar[kMaxPacketSize];  // kept equal to the rays' tfar as hits shrink it
   int nearRow[3] = {}, farRow[3] = {};
+  int zeroAxes = 0;  // bit axis: no ray of the packet moves along the axis (direction +-0)
   int groups = 0;
   bool usable = false;
   float originSpread = 0.f;  // the largest side of the box around the rays' origins
 
-  // Usable when the rays of active all move along every axis, with the same direction signs, and
-  // have numbers for origins and tnear (NaN rays go alone, where no box admits them). 1/dir, the
+  // Usable when the rays of active share their direction's sign bits, have numbers for origins and
+  // tnear (NaN rays go alone, where no box admits them), and along each axis either all move
+  // (1/dir finite and non-zero) or all do not (a direction of +-0), along one axis at least: the
+  // rays whose node tests take the integer forms (kBits, kBitsZeroAxes), with the same zero axes. 1/dir, the
   // signs and the zero-direction test are the single-ray frame's (WideRayFrame) operations, done
   // here for a lane group of rays at once (a division is exact, so 1/dir is the same float either
   // way): most packets never need a ray's full frame (only rays that go on alone do). A lane
@@ -53,7 +57,8 @@ struct PacketLanes {
     const FN zero = FN::broadcast(0.f), one = FN::broadcast(1.f);
     const FN largest = FN::broadcast(std::numeric_limits<float>::max()), lowest = zero - largest;
     const FN infinity = FN::broadcast(std::numeric_limits<float>::infinity());
-    int negative[3] = {0, 0, 0};  // rays of active moving towards -axis
+    int negative[3] = {0, 0, 0};  // rays of active whose direction's sign bit is set, per axis
+    int still[3] = {0, 0, 0};     // rays of active whose direction is +-0, per axis
     // The packet's bounds are thirteen minima over its rays: tnear, and per axis the origins, their
     // negations (for the maxima), 1/dir and its negation. Each lane group's are reduced together,
     // kLanes minima at once (FN::minOfEachRow), into `lows`, lane by lane over the groups. Reduced
@@ -89,12 +94,17 @@ struct PacketLanes {
         const FN d = select(on, leading[4 + axis], infinity);
         if ((equalMask(o, o) & on) != on) return;
         const FN inv = one / d;  // idle lanes: 1 / inf = 0
-        // Not finite (NaN fails both comparisons): the single-ray frame's float form takes the ray.
-        if ((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero) & on) != on) return;
+        // Neither finite nor a zero direction's (NaN fails every comparison, a denormal direction
+        // overflows): the single-ray frame's float form takes the ray.
+        const int zeroLanes = equalMask(d, zero) & on;
+        if ((((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero)) | zeroLanes) & on) != on)
+          return;
         o.store(org[axis] + base);
+        // A zero direction's -1/dir is -+inf, as in the single-ray frame.
         const FN negInv = zero - inv;
         negInv.store(negInvDir[axis] + base);
-        negative[axis] |= (lessMask(d, zero) & on) << base;
+        negative[axis] |= (signMask(d) & on) << base;
+        still[axis] |= zeroLanes << base;
         bounds[1 + axis] = select(on, o, infinity);
         bounds[4 + axis] = select(on, zero - o, infinity);
         bounds[7 + axis] = select(on, inv, infinity);
@@ -108,18 +118,25 @@ struct PacketLanes {
     for (int axis = 0; axis < 3; ++axis) {
       // Mixed signs: the rays' boxes would be tested ray by ray along the union of their paths.
       if (negative[axis] != 0 && uint32_t(negative[axis]) != active) return;
+      // Some rays move along the axis and some do not: their node tests take different forms.
+      if (still[axis] != 0 && uint32_t(still[axis]) != active) return;
+      if (still[axis] != 0) zeroAxes |= 1 << axis;
       nearRow[axis] = entryRow(axis, negative[axis] != 0);
       farRow[axis] = exitRow(axis, negative[axis] != 0);
       // The packet's bounds per axis: origin and 1/dir ranges (1/dir has one sign per axis here).
       const float orgLow = low[1 + axis], orgHigh = 0.f - low[4 + axis];
       const float invLow = low[7 + axis], invHigh = 0.f - low[10 + axis];
       originSpread = std::max(originSpread, orgHigh - orgLow);
+      orgBounds[axis][0] = FN::broadcast(orgLow);
+      orgBounds[axis][1] = FN::broadcast(orgHigh);
       const bool positive = invLow > 0.f;
       nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
       farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
       invBounds[axis][0] = FN::broadcast(invLow);
       invBounds[axis][1] = FN::broadcast(invHigh);
     }
+    // Rays that move along no axis: the single-ray frame's float form.
+    if (zeroAxes == 7) return;
     refreshTfarHigh();
     usable = true;
   }
@@ -130,12 +147,21 @@ struct PacketLanes {
   // of exact ones: nearLow <= every ray's entry distance and farHigh >= every ray's exit distance,
   // and a child with nearLow > farHigh is entered by none. An unused child (NaN bounds) gets a NaN
   // nearLow and fails, as in the per-ray test. nearBound gets nearLow.
-  template <int N>
+  // kZeroAxes: zeroAxes is not 0. Along a zero axis a ray enters exactly the slabs that hold its
+  // origin (the float form's test, which the integer form's infinite distances reproduce): no ray
+  // enters a slab that the packet's range of origins misses.
+  template <bool kZeroAxes, int N>
   int mayEnter(const WideNode<N>& node, float nearBound[N]) const {
     static_assert(N == kLanes, "one lane per child");
     FN nearLow = FN::broadcast(tnearLow);
     FN farHigh = FN::broadcast(std::numeric_limits<float>::infinity());
+    int inside = (1 << N) - 1;
     for (int axis = 0; axis < 3; ++axis) {
+      if (kZeroAxes && ((zeroAxes >> axis) & 1)) {
+        inside &= lessEqualMask(FN::load(node.bounds[axis * 2]), orgBounds[axis][1]) &
+                  lessEqualMask(orgBounds[axis][0], FN::load(node.bounds[axis * 2 + 1]));
+        continue;
+      }
       const FN dn = FN::load(node.bounds[nearRow[axis]]) - nearBoundOrg[axis];
       nearLow = max(nearLow, min(dn * invBounds[axis][0], dn * invBounds[axis][1]));
       const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
@@ -143,7 +169,7 @@ struct PacketLanes {
     }
     farHigh = min(bitsPlus(farHigh, kConservativeFarUlps), FN::broadcast(tfarHigh));
     nearLow.store(nearBound);
-    return lessEqualMask(nearLow, farHigh);
+    return lessEqualMask(nearLow, farHigh) & inside;
   }
 
   // Tests every child of node against the rays in `rays`: childRays[c] gets the rays entering
@@ -152,10 +178,11 @@ struct PacketLanes {
   // orders the children and, at a pop, drops the rays whose segment ends before it, which a
   // smaller bound does less often but never wrongly. The rays' own smallest entry, a reduction per
   // entered child and lane group, took about 5% of a coherent packet's instructions.
-  template <int N>
+  // kZeroAxes: zeroAxes is not 0 (intersectWideNode's form kBitsZeroAxes).
+  template <bool kZeroAxes, int N>
   int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
     int entered = 0;
-    const int candidateChildren = mayEnter(node, childEntry);
+    const int candidateChildren = mayEnter<kZeroAxes>(node, childEntry);
     if (candidateChildren == 0) return 0;
     for (int g = 0; g < groups; ++g) {
       const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
@@ -170,6 +197,8 @@ struct PacketLanes {
         for (int axis = 0; axis < 3; ++axis) {
           entryT[axis] = (o[axis] - FN::broadcast(node.bounds[nearRow[axis]][c])) * negInv[axis];
           exitT[axis] = (o[axis] - FN::broadcast(node.bounds[farRow[axis]][c])) * negInv[axis];
+          // As intersectWideNode's form kBitsZeroAxes: a NaN exit (an origin on a plane) becomes +inf.
+          if (kZeroAxes) exitT[axis] = min(exitT[axis], FN::broadcast(std::numeric_limits<float>::infinity()));
         }
         const FN nearT = maxOfBits(maxOfBits(entryT[0], entryT[1]), maxOfBits(tnearLanes, entryT[2]));
         const FN farT =
@@ -214,6 +243,7 @@ struct PacketLanes {
   }
 
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
+  FN orgBounds[3][2];                  // lowest and highest origin
   FN invBounds[3][2];                  // lowest and highest 1/dir
   float tnearLow = 0.f, tfarHigh = 0.f;
 };
@@ -234,23 +264,13 @@ constexpr int kPacketSoloRaysClose = 1;
 constexpr int kPacketSoloRaysSpread = 4;
 constexpr float kPacketSpreadFraction = 0.125f;
 
-template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
-void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
-                        LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
+// The walk of traverseWidePacket once the packet's lanes are made (kZeroAxes: lanes.zeroAxes is not
+// 0).
+template <typename FN, bool kNearToFar, bool kZeroAxes, typename LeafVisitor, typename SoloVisitor>
+void walkWidePacket(const TriangleWideView<FN::kWidth>& bvh, PacketLanes<FN>& lanes, const Ray* rays,
+                    uint32_t active, LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
   constexpr int N = FN::kWidth;
   using Node = WideNode<N>;
-  if (bvh.empty() || active == 0) return;
-  if (Node::isLeaf(bvh.root)) {
-    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root), active);
-    return;
-  }
-  PacketLanes<FN> lanes(rays, active);
-  if (!lanes.usable) {
-    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
-    // would be tested ray by ray, along the union of their paths): each goes alone.
-    soloVisitor(bvh.root, active);
-    return;
-  }
   const int soloRays =
       lanes.originSpread > bvh.extent * kPacketSpreadFraction ? kPacketSoloRaysSpread : kPacketSoloRaysClose;
   struct Entry {
@@ -286,7 +306,7 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
       const Node& node = bvh.nodes[current];
       uint32_t childRays[N] = {};
       alignas(32) float childEntry[N];
-      int entered = lanes.intersectNode(node, currentRays, childRays, childEntry);
+      int entered = lanes.template intersectNode<kZeroAxes>(node, currentRays, childRays, childEntry);
       if (entered == 0) break;
       Entry hits[N];
       int n = 0;
@@ -311,6 +331,28 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     current = e.child;
     currentRays = raysStillIn(e);
   }
+}
+
+template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
+void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
+                        LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
+  using Node = WideNode<FN::kWidth>;
+  if (bvh.empty() || active == 0) return;
+  if (Node::isLeaf(bvh.root)) {
+    leafVisitor(Node::leafFirstBlock(bvh.root), Node::leafBlockCount(bvh.root), active);
+    return;
+  }
+  PacketLanes<FN> lanes(rays, active);
+  if (!lanes.usable) {
+    // Rays of differing direction signs gain nothing from travelling together (every node's boxes
+    // would be tested ray by ray, along the union of their paths): each goes alone.
+    soloVisitor(bvh.root, active);
+    return;
+  }
+  if (lanes.zeroAxes != 0)
+    walkWidePacket<FN, kNearToFar, true>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+  else
+    walkWidePacket<FN, kNearToFar, false>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
 }
 
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as

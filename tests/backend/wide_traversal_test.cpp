@@ -20,6 +20,7 @@
 #include "simd/float_scalar.h"
 #include "traversal/wide_traversal.h"
 #include "traversal/wide_traverse.h"
+#include "traversal/wide_traverse_packets.h"
 
 namespace obvh {
 namespace {
@@ -331,6 +332,21 @@ TEST(WideBvh, SegmentEndsMatchTheBinaryTree) {
   expectSegmentEndsMatchTheBinaryTree<8>();
 }
 
+// Whether primitive primID reports distance t for the ray too: a packet, which visits leaves in its
+// own order, may report either of two primitives that tie at the closest distance.
+template <int N>
+bool hitsAtDistance(const Layouts<N>& l, const Ray& ray, uint32_t primID, float t) {
+  bool reproduced = false;
+  for (const StoredTriangle& tri : l.triangles) {
+    if (tri.primID != primID) continue;
+    Ray probe = ray;
+    probe.tfar = std::numeric_limits<float>::infinity();
+    TriangleHit th;
+    reproduced |= intersectWatertight(WatertightRay(probe), probe, tri.v0, tri.v1, tri.v2, th) && th.t == t;
+  }
+  return reproduced;
+}
+
 // Packets of up to 16 rays (partial masks, coherent and incoherent lanes) find the same closest
 // distance and occlusion as each ray alone. The hit primitive may differ only where two
 // primitives tie at that distance (the packet visits leaves in its own order).
@@ -387,17 +403,8 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
       ++hits;
       EXPECT_EQ(packetRays[r].tfar, single.tfar);
       if (packetHits[r].primID != hit.primID) {
-        // A tie: the packet's primitive must report that very distance too.
-        bool reproduced = false;
-        for (const StoredTriangle& tri : l.triangles) {
-          if (tri.primID != packetHits[r].primID) continue;
-          Ray probe = rays[r];
-          probe.tfar = std::numeric_limits<float>::infinity();
-          TriangleHit th;
-          reproduced |= intersectWatertight(WatertightRay(probe), probe, tri.v0, tri.v1, tri.v2, th) && th.t == single.tfar;
-        }
-        EXPECT_TRUE(reproduced) << "packet " << p << " lane " << r << ": primID " << packetHits[r].primID << " vs "
-                                << hit.primID;
+        EXPECT_TRUE(hitsAtDistance(l, rays[r], packetHits[r].primID, single.tfar))
+            << "packet " << p << " lane " << r << ": primID " << packetHits[r].primID << " vs " << hit.primID;
       }
     }
   }
@@ -470,6 +477,82 @@ TEST(WideBvh, PacketsMatchSingleRays) {
   expectPacketsMatchSingleRays<8>(KernelIsa::Scalar);
   expectPacketsMatchSingleRays<4>(bestKernelIsa(4));
   expectPacketsMatchSingleRays<8>(bestKernelIsa(8));
+}
+
+// Orthographic packets (rays that do not move along one or two axes, direction +-0 there) over
+// walls seen edge-on, with many rays exactly in a wall's plane, that is on the planes of the boxes
+// around it: packets whose rays share their zero axes and sign bits take the packet walk
+// (PacketLanes with zeroAxes, the node test's integer form with zero axes), the others go ray by
+// ray. Either way every lane answers as the ray alone does, up to which of two primitives at the
+// closest distance it reports.
+template <int N>
+void expectOrthographicPacketsMatchSingleRays(KernelIsa isa) {
+  Layouts<N> l(wallsSeenEdgeOn(), 4);
+  size_t hits = 0, packetWalks = 0, ties = 0;
+  for (int variant = 0; variant < 6; ++variant)
+    for (int row = 0; row <= 64; ++row)
+      for (int start = 0; start <= 64; start += 16) {
+        Ray rays[kMaxPacketSize];
+        for (int r = 0; r < 16; ++r) {
+          const int i = std::min(start + r, 64);
+          rays[r].org = {0.125f * float(i), 0.125f * float(row), 5.f};  // exact: walls sit at 0.125 * (2 + 4k)
+          rays[r].tfar = std::numeric_limits<float>::infinity();
+          switch (variant) {
+            case 0: rays[r].dir = {0.f, 0.f, -1.f}; break;                    // zero axes x, y
+            case 1: rays[r].dir = {-0.f, 0.f, -2.f}; break;                   // x's sign bit set
+            case 2: rays[r].dir = {0.f, 0.01f * float(r + 1), -1.f}; break;   // zero axis x only
+            case 3: rays[r].dir = {r % 2 ? -0.f : 0.f, 0.f, -1.f}; break;     // sign bits differ
+            case 4: rays[r].dir = {r % 3 ? 0.f : 0.02f, 0.f, -1.f}; break;    // x zero for some only
+            default: rays[r].dir = {0.f, 0.f, 0.f}; break;                    // no axis moving
+          }
+        }
+        const uint32_t active = row % 3 == 0 ? 0xFFFFu : uint32_t(0x6D2Bu >> (row % 5)) & 0xFFFFu;
+        const PacketLanes<simd::FloatScalar<N>> lanes(rays, active);
+        ASSERT_EQ(lanes.usable, variant < 3) << "variant " << variant;
+        if (lanes.usable) {
+          EXPECT_EQ(lanes.zeroAxes, variant == 2 ? 1 : 3);
+          ++packetWalks;
+        }
+        Ray packetRays[kMaxPacketSize];
+        Hit packetHits[kMaxPacketSize];
+        std::copy(rays, rays + 16, packetRays);
+        const QueryState state;
+        const uint32_t found = intersectClosestWidePacket(l.view, packetRays, packetHits, active, state, isa);
+        const uint32_t occluded = intersectAnyWidePacket(l.view, rays, active, state, isa);
+        for (int r = 0; r < 16; ++r) {
+          if (!((active >> r) & 1)) {
+            EXPECT_FALSE(((found | occluded) >> r) & 1);
+            EXPECT_EQ(packetRays[r].tfar, rays[r].tfar);
+            continue;
+          }
+          Ray single = rays[r];
+          Hit hit;
+          const bool f = intersectClosestWide(l.view, single, hit, state, isa);
+          ASSERT_EQ(bool((found >> r) & 1), f) << "variant " << variant << " row " << row << " lane " << r;
+          EXPECT_EQ(bool((occluded >> r) & 1), intersectAnyWide(l.view, rays[r], state, isa));
+          if (!f) continue;
+          ++hits;
+          EXPECT_TRUE(test::sameBits(packetRays[r].tfar, single.tfar)) << "variant " << variant << " lane " << r;
+          if (packetHits[r].primID == hit.primID) {
+            EXPECT_EQ(packetHits[r].u, hit.u);
+            EXPECT_EQ(packetHits[r].v, hit.v);
+          } else {
+            ++ties;
+            EXPECT_TRUE(hitsAtDistance(l, rays[r], packetHits[r].primID, single.tfar))
+                << "variant " << variant << " row " << row << " lane " << r;
+          }
+        }
+      }
+  EXPECT_EQ(packetWalks, 3u * 65u * 5u);
+  EXPECT_GT(hits, 3u * 65u * 65u);  // the floor below everything, for every variant with a direction
+  EXPECT_LT(ties, hits / 100);        // rays in a wall's plane that meet a wall's two triangles
+}
+
+TEST(WideBvh, OrthographicPacketsMatchSingleRays) {
+  expectOrthographicPacketsMatchSingleRays<4>(KernelIsa::Scalar);
+  expectOrthographicPacketsMatchSingleRays<8>(KernelIsa::Scalar);
+  expectOrthographicPacketsMatchSingleRays<4>(bestKernelIsa(4));
+  expectOrthographicPacketsMatchSingleRays<8>(bestKernelIsa(8));
 }
 
 template <int N>

@@ -344,6 +344,7 @@ int main(int argc, char** argv) {
         {"primary perspective, packets of 8, no coherence hint", Query::Intersect8, &perspective},
         {"primary perspective, streams of 64 (rtcIntersect1M)", Query::Intersect1M, &perspective, kCoherent},
         {"primary orthographic", Query::Intersect1, &orthographic, kCoherent},
+        {"primary orthographic, packets of 8", Query::Intersect8, &orthographic, kCoherent},
         {"random (incoherent)", Query::Intersect1, &random},
         {"from a point source", Query::Intersect1, &fromSource}};
     for (const Workload& w : workloads) traceInTurns(runs, w, options.runs);
