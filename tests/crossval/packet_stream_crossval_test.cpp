@@ -8,6 +8,7 @@
 #include <string>
 
 #include "crossval_harness.h"
+#include "ray_generation.h"
 #include "stack_generator.h"
 #include "test_scenes.h"
 
@@ -157,6 +158,33 @@ TEST(CrossvalPackets, Intersect4_8_16WithPartialValidMasks) {
 TEST(CrossvalPackets, Occluded4_8_16WithPartialValidMasks) {
   Fixture f;
   runOccludedPacketWidths(f, "");
+}
+
+// Orthographic cameras along -z (the tools' orthographicRays), +x and -y: every packet's rays share
+// a direction that does not move along two axes, and the packet walks together (PacketLanes'
+// zero axes), with many rays in the planes of the grid's and the patches' boxes.
+TEST(CrossvalPackets, OrthographicPackets) {
+  Fixture f;
+  RTCBounds b;
+  f.libs.embree->rtcGetSceneBounds(f.reference.scene(), &b);
+  const tools::SceneBox box{{b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}};
+  const std::vector<RTCRay> alongZ = tools::orthographicRays(box, 160, 160);
+  f.rays.clear();
+  for (int view = 0; view < 3; ++view)
+    for (const RTCRay& z : alongZ) {
+      RTCRay r = z;
+      if (view == 1) {  // along +x: the view's (x, y, z) become (z, x, y), the direction negated
+        r.org_x = box.lower[0] - (z.org_z - box.upper[2]), r.org_y = z.org_x, r.org_z = z.org_y;
+        r.dir_x = -z.dir_z, r.dir_y = z.dir_x, r.dir_z = z.dir_y;
+      } else if (view == 2) {  // along -y: (x, y, z) become (y, z, x)
+        r.org_x = z.org_y, r.org_y = box.upper[1] + (z.org_z - box.upper[2]), r.org_z = z.org_x;
+        r.dir_x = z.dir_y, r.dir_y = z.dir_z, r.dir_z = z.dir_x;
+      }
+      f.rays.push_back(r);
+    }
+  assignMasks(f.rays, 24);
+  runIntersectPacketWidths(f, ", orthographic");
+  runOccludedPacketWidths(f, ", orthographic");
 }
 
 // Packets through the eight-wide oriented layouts, traced together (obb_packets, on by default)
