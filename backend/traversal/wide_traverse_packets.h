@@ -38,13 +38,13 @@ struct PacketLanes {
   // Usable when the rays of active share their direction's sign bits, have numbers for origins and
   // tnear (NaN rays go alone, where no box admits them), and along each axis either all move
   // (1/dir finite and non-zero) or all do not (a direction of +-0), along one axis at least: the
-  // rays whose node tests take the integer forms (kBits, kBitsZeroAxes), with the same zero axes. 1/dir, the
-  // signs and the zero-direction test are the single-ray frame's (WideRayFrame) operations, done
-  // here for a lane group of rays at once (a division is exact, so 1/dir is the same float either
-  // way): most packets never need a ray's full frame (only rays that go on alone do). A lane
-  // group's origins, tnear and directions come out of one transposed load of its rays' leading
-  // fields (FN::loadColumns); assembled lane by lane, eight values a row, the set-up was a tenth
-  // of a coherent rtcIntersect8 packet's time (perf, bunny primary rays). rays must hold the
+  // rays whose node tests take the integer forms (kBits, kBitsZeroAxes), with the same zero axes.
+  // 1/dir, the signs and the zero-direction test are the single-ray frame's (WideRayFrame)
+  // operations, done here for a lane group of rays at once (a division is exact, so 1/dir is the
+  // same float either way): most packets never need a ray's full frame (only rays that go on alone
+  // do). A lane group's origins, tnear and directions come out of one transposed load of its rays'
+  // leading fields (FN::loadColumns); assembled lane by lane, eight values a row, the set-up was a
+  // tenth of a coherent rtcIntersect8 packet's time (perf, bunny primary rays). rays must hold the
   // whole lane group of every active ray (kMaxPacketSize entries do); idle lanes may be
   // uninitialized, their values are replaced.
   PacketLanes(const Ray* rays, uint32_t active) {
@@ -97,8 +97,8 @@ struct PacketLanes {
         // Neither finite nor a zero direction's (NaN fails every comparison, a denormal direction
         // overflows): the single-ray frame's float form takes the ray.
         const int zeroLanes = equalMask(d, zero) & on;
-        if ((((lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero)) | zeroLanes) & on) != on)
-          return;
+        const int finite = lessEqualMask(inv, largest) & lessEqualMask(lowest, inv) & ~equalMask(inv, zero);
+        if (((finite | zeroLanes) & on) != on) return;
         o.store(org[axis] + base);
         // A zero direction's -1/dir is -+inf, as in the single-ray frame.
         const FN negInv = zero - inv;
@@ -197,7 +197,7 @@ struct PacketLanes {
         for (int axis = 0; axis < 3; ++axis) {
           entryT[axis] = (o[axis] - FN::broadcast(node.bounds[nearRow[axis]][c])) * negInv[axis];
           exitT[axis] = (o[axis] - FN::broadcast(node.bounds[farRow[axis]][c])) * negInv[axis];
-          // As intersectWideNode's form kBitsZeroAxes: a NaN exit (an origin on a plane) becomes +inf.
+          // As intersectWideNode's form kBitsZeroAxes: a NaN exit (origin on a plane) becomes +inf.
           if (kZeroAxes) exitT[axis] = min(exitT[axis], FN::broadcast(std::numeric_limits<float>::infinity()));
         }
         const FN nearT = maxOfBits(maxOfBits(entryT[0], entryT[1]), maxOfBits(tnearLanes, entryT[2]));
@@ -345,7 +345,8 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
   PacketLanes<FN> lanes(rays, active);
   if (!lanes.usable) {
     // Rays of differing direction signs gain nothing from travelling together (every node's boxes
-    // would be tested ray by ray, along the union of their paths): each goes alone.
+    // would be tested ray by ray, along the union of their paths), nor do rays whose node tests
+    // take different forms: each goes alone.
     soloVisitor(bvh.root, active);
     return;
   }
