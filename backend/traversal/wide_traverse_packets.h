@@ -225,19 +225,36 @@ struct PacketLanes {
   // The smallest tnear of the packet's rays (made with the lanes, of a usable packet).
   float smallestTnear() const { return tnearLow; }
 
+  // Takes the tfar of the rays in `changed` from rays (rays must hold the whole lane group of each,
+  // as for the constructor). A lane group at a time, as one vector store: written lane by lane, the
+  // vector loads that read tfar next (here and in the node tests) waited for the scalar stores.
   void refreshTfar(const Ray* rays, uint32_t changed) {
-    for (; changed; changed &= changed - 1) tfar[__builtin_ctz(changed)] = rays[__builtin_ctz(changed)].tfar;
-    refreshTfarHigh();
+    const FN none = FN::broadcast(-std::numeric_limits<float>::infinity());
+    FN high = none;
+    for (int g = 0; g < groups; ++g) {
+      const int base = g * kLanes;
+      FN lanes = FN::load(tfar + base);
+      const int changedLanes = int((changed >> base) & ((1u << kLanes) - 1));
+      if (changedLanes != 0) {
+        lanes = select(changedLanes, FN::fromLanes([&](int lane) { return rays[base + lane].tfar; }), lanes);
+        lanes.store(tfar + base);
+      }
+      high = max(high, replaceNaN(lanes, none));
+    }
+    setTfarHigh(high);
   }
 
  private:
-  // The largest tfar, a NaN counting as none (as std::max skipped it): a vector maximum over the
-  // lane groups and one reduction, where a scalar pass over every lane took about 25 instructions,
-  // after every leaf a packet visits.
   void refreshTfarHigh() {
     const FN none = FN::broadcast(-std::numeric_limits<float>::infinity());
     FN high = replaceNaN(FN::load(tfar), none);
     for (int g = 1; g < groups; ++g) high = max(high, replaceNaN(FN::load(tfar + g * kLanes), none));
+    setTfarHigh(high);
+  }
+  // The largest tfar, a NaN counting as none (as std::max skipped it), from the lane groups'
+  // maximum (high): one reduction, where a scalar pass over every lane took about 25 instructions,
+  // after every leaf a packet visits.
+  void setTfarHigh(const FN& high) {
     const FN zero = FN::broadcast(0.f);
     tfarHigh = 0.f - minOfLanes(zero - high, (1 << kLanes) - 1);
   }
@@ -294,13 +311,14 @@ void walkWidePacket(const TriangleWideView<FN::kWidth>& bvh, PacketLanes<FN>& la
       if (Node::isLeaf(current)) {
         active &= ~leafVisitor(Node::leafFirstBlock(current), Node::leafBlockCount(current), currentRays);
         if (active == 0) return;
-        lanes.refreshTfar(rays, currentRays);
+        // Any-hit rays keep their tfar (those that finish leave the packet).
+        if (kNearToFar) lanes.refreshTfar(rays, currentRays);
         break;
       }
       if (__builtin_popcount(currentRays) <= soloRays) {
         active &= ~soloVisitor(current, currentRays);
         if (active == 0) return;
-        lanes.refreshTfar(rays, currentRays);
+        if (kNearToFar) lanes.refreshTfar(rays, currentRays);
         break;
       }
       const Node& node = bvh.nodes[current];
