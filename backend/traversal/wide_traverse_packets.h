@@ -127,8 +127,10 @@ struct PacketLanes {
       const float orgLow = low[1 + axis], orgHigh = 0.f - low[4 + axis];
       const float invLow = low[7 + axis], invHigh = 0.f - low[10 + axis];
       originSpread = std::max(originSpread, orgHigh - orgLow);
-      orgBounds[axis][0] = FN::broadcast(orgLow);
-      orgBounds[axis][1] = FN::broadcast(orgHigh);
+      if (still[axis] != 0) {
+        orgBounds[axis][0] = FN::broadcast(orgLow);
+        orgBounds[axis][1] = FN::broadcast(orgHigh);
+      }
       const bool positive = invLow > 0.f;
       nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
       farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
@@ -137,7 +139,7 @@ struct PacketLanes {
     }
     // Rays that move along no axis: the single-ray frame's float form.
     if (zeroAxes == 7) return;
-    refreshTfarHigh();
+    refreshTfar(rays, 0u);
     usable = true;
   }
 
@@ -226,8 +228,11 @@ struct PacketLanes {
   float smallestTnear() const { return tnearLow; }
 
   // Takes the tfar of the rays in `changed` from rays (rays must hold the whole lane group of each,
-  // as for the constructor). A lane group at a time, as one vector store: written lane by lane, the
-  // vector loads that read tfar next (here and in the node tests) waited for the scalar stores.
+  // as for the constructor), and the largest tfar of all, a NaN counting as none (as std::max
+  // skipped it): a vector maximum over the lane groups and one reduction, where a scalar pass over
+  // every lane took about 25 instructions after every leaf a packet visits. A lane group's tfar is
+  // written as one vector store: written lane by lane, the vector loads that read them next (here
+  // and in the node tests) waited for the scalar stores.
   void refreshTfar(const Ray* rays, uint32_t changed) {
     const FN none = FN::broadcast(-std::numeric_limits<float>::infinity());
     FN high = none;
@@ -241,26 +246,14 @@ struct PacketLanes {
       }
       high = max(high, replaceNaN(lanes, none));
     }
-    setTfarHigh(high);
-  }
-
- private:
-  void refreshTfarHigh() {
-    const FN none = FN::broadcast(-std::numeric_limits<float>::infinity());
-    FN high = replaceNaN(FN::load(tfar), none);
-    for (int g = 1; g < groups; ++g) high = max(high, replaceNaN(FN::load(tfar + g * kLanes), none));
-    setTfarHigh(high);
-  }
-  // The largest tfar, a NaN counting as none (as std::max skipped it), from the lane groups'
-  // maximum (high): one reduction, where a scalar pass over every lane took about 25 instructions,
-  // after every leaf a packet visits.
-  void setTfarHigh(const FN& high) {
     const FN zero = FN::broadcast(0.f);
     tfarHigh = 0.f - minOfLanes(zero - high, (1 << kLanes) - 1);
   }
 
+ private:
+
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
-  FN orgBounds[3][2];                  // lowest and highest origin
+  FN orgBounds[3][2];                  // lowest and highest origin, along the zero axes
   FN invBounds[3][2];                  // lowest and highest 1/dir
   float tnearLow = 0.f, tfarHigh = 0.f;
 };
