@@ -120,7 +120,6 @@ struct PacketLanes {
       if (negative[axis] != 0 && uint32_t(negative[axis]) != active) return;
       // Some rays move along the axis and some do not: their node tests take different forms.
       if (still[axis] != 0 && uint32_t(still[axis]) != active) return;
-      if (still[axis] != 0) zeroAxes |= 1 << axis;
       nearRow[axis] = entryRow(axis, negative[axis] != 0);
       farRow[axis] = exitRow(axis, negative[axis] != 0);
       // The packet's bounds per axis: origin and 1/dir ranges (1/dir has one sign per axis here).
@@ -128,6 +127,7 @@ struct PacketLanes {
       const float invLow = low[7 + axis], invHigh = 0.f - low[10 + axis];
       originSpread = std::max(originSpread, orgHigh - orgLow);
       if (still[axis] != 0) {
+        zeroAxes |= 1 << axis;
         orgBounds[axis][0] = FN::broadcast(orgLow);
         orgBounds[axis][1] = FN::broadcast(orgHigh);
       }
