@@ -368,14 +368,12 @@ void walkOrientedPacketOf(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacket
 // walkOrientedPacketOf for the lanes' number of groups (diagonal-42k with accel=obb, coherent
 // rtcIntersect8: 988 -> 925 instructions a ray, callgrind; closest-hit packets 1.006-1.029x as fast
 // there and on the bunny).
-template <typename FN, int kGroups = kMaxPacketSize / FN::kWidth, typename LeafVisitor, typename SoloVisitor>
+template <typename FN, typename LeafVisitor, typename SoloVisitor>
 void walkOrientedPacket(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacketRays<FN>& lanes, const Ray* rays,
                         uint32_t active, LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
-  if constexpr (kGroups > 1) {
-    if (lanes.groups != kGroups)
-      return walkOrientedPacket<FN, kGroups - 1>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
-  }
-  walkOrientedPacketOf<FN, kGroups>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+  withGroupCount<kMaxPacketSize / FN::kWidth>(lanes.groups, [&](auto groups) {
+    walkOrientedPacketOf<FN, decltype(groups)::value>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+  });
 }
 
 // The rays of `active` worth tracing: a segment that is not empty and meets the tree's bounds.

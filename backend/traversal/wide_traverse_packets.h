@@ -9,12 +9,24 @@
 #include <cstdint>
 #include <limits>
 #include <new>
+#include <type_traits>
 
 #include "memory/uninitialized_array.h"
 #include "traversal/triangle_packet_leaf.h"
 #include "traversal/wide_traverse.h"
 
 namespace obvh {
+
+// body(std::integral_constant<int, count>{}) for a count in [1, kMax]: code made for a packet's
+// number of lane groups as a constant, whose loops over the groups unroll and keep their values in
+// registers.
+template <int kMax, typename Body>
+[[gnu::always_inline]] inline void withGroupCount(int count, Body&& body) {
+  if constexpr (kMax > 1) {
+    if (count != kMax) return withGroupCount<kMax - 1>(count, body);
+  }
+  body(std::integral_constant<int, kMax>{});
+}
 
 // A packet's rays as SIMD lanes (groups of FN::kWidth rays), for packets whose rays all share
 // their direction signs and, along each axis, all move or all do not (an orthographic camera's
@@ -49,21 +61,13 @@ struct PacketLanes {
   // uninitialized, their values are replaced.
   PacketLanes(const Ray* rays, uint32_t active) {
     if (active == 0) return;
-    makeWithGroups<kMaxPacketSize / kLanes>((31 - __builtin_clz(active)) / kLanes + 1, rays, active);
+    // With a count known only at run time, a coherent rtcIntersect8 packet's set-up took 463
+    // instructions on the bunny, 403 so (callgrind).
+    withGroupCount<kMaxPacketSize / kLanes>((31 - __builtin_clz(active)) / kLanes + 1,
+                                            [&](auto groups) { make<decltype(groups)::value>(rays, active); });
   }
 
  private:
-  // make<kGroups> for the packet's number of lane groups: with the count a constant, the loops over
-  // the groups unroll and their values stay in registers (with a count known only at run time, a
-  // coherent rtcIntersect8 packet's set-up took 463 instructions on the bunny, 403 so; callgrind).
-  template <int kGroups>
-  void makeWithGroups(int count, const Ray* rays, uint32_t active) {
-    if constexpr (kGroups > 1) {
-      if (count != kGroups) return makeWithGroups<kGroups - 1>(count, rays, active);
-    }
-    make<kGroups>(rays, active);
-  }
-
   template <int kGroups>
   [[gnu::always_inline]] void make(const Ray* rays, uint32_t active) {
     static_assert(offsetof(Ray, org) == 0 && offsetof(Ray, tnear) == 3 * sizeof(float) &&
@@ -367,22 +371,6 @@ void walkWidePacket(const TriangleWideView<FN::kWidth>& bvh, PacketLanes<FN>& la
   }
 }
 
-// walkWidePacket for the lanes' number of groups (kGroups at most) as a constant: the loops over the
-// groups in every node test, pop and refresh unroll (bunny coherent rtcIntersect8: 414 -> 388
-// instructions a ray, callgrind; 1.01-1.03x as fast, rtcOccluded8 unchanged within 1%).
-template <typename FN, bool kNearToFar, int kGroups, typename LeafVisitor, typename SoloVisitor>
-void walkWithGroups(const TriangleWideView<FN::kWidth>& bvh, PacketLanes<FN>& lanes, const Ray* rays,
-                    uint32_t active, LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
-  if constexpr (kGroups > 1) {
-    if (lanes.groups != kGroups)
-      return walkWithGroups<FN, kNearToFar, kGroups - 1>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
-  }
-  if (lanes.zeroAxes != 0)
-    walkWidePacket<FN, kNearToFar, true, kGroups>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
-  else
-    walkWidePacket<FN, kNearToFar, false, kGroups>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
-}
-
 template <typename FN, bool kNearToFar, typename LeafVisitor, typename SoloVisitor>
 void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
                         LeafVisitor&& leafVisitor, SoloVisitor&& soloVisitor) {
@@ -400,7 +388,16 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
     soloVisitor(bvh.root, active);
     return;
   }
-  walkWithGroups<FN, kNearToFar, kMaxPacketSize / FN::kWidth>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+  // The walk for the lanes' number of groups as a constant: the loops over the groups in every node
+  // test, pop and refresh unroll (bunny coherent rtcIntersect8: 414 -> 388 instructions a ray,
+  // callgrind; 1.01-1.03x as fast, rtcOccluded8 unchanged within 1%).
+  withGroupCount<kMaxPacketSize / FN::kWidth>(lanes.groups, [&](auto groups) {
+    constexpr int kGroups = decltype(groups)::value;
+    if (lanes.zeroAxes != 0)
+      walkWidePacket<FN, kNearToFar, true, kGroups>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+    else
+      walkWidePacket<FN, kNearToFar, false, kGroups>(bvh, lanes, rays, active, leafVisitor, soloVisitor);
+  });
 }
 
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
