@@ -278,7 +278,6 @@ struct PacketLanes {
   }
 
  private:
-
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
   FN orgBounds[3][2];                  // lowest and highest origin, along the zero axes
   FN invBounds[3][2];                  // lowest and highest 1/dir
