@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "intersect/ray.h"
 
@@ -12,6 +13,10 @@ namespace obvh {
 constexpr float kUnitRoundoff = 0x1p-24f;
 constexpr float gammaBound(int n) { return (float(n) * kUnitRoundoff) / (1.f - float(n) * kUnitRoundoff); }
 constexpr float kConservativeFarScale = 1.f + 2.f * gammaBound(3);
+// How far the wide node tests' integer form raises the exit distance, in ulps: at least the
+// relative 2 * gamma(3) of Ize's scaling (kConservativeFarScale), which is under 6 ulps of any
+// float, with room to spare. An integer add, where the float form multiplies.
+constexpr int32_t kConservativeFarUlps = 8;
 
 // Per-ray constants of the slab test.
 struct BoxRay {

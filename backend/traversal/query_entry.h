@@ -12,6 +12,15 @@
 
 namespace obvh {
 
+// The box around the root node's children of an axis-aligned wide tree, which a packet's lanes
+// are tested against first (packet_gate.h). `bounded` is false for other structures and for a
+// tree whose root is a leaf: no lane is then turned away.
+struct PacketGate {
+  bool bounded = false;
+  float lower[3] = {0.f, 0.f, 0.f};
+  float upper[3] = {0.f, 0.f, 0.f};
+};
+
 struct QueryEntry {
   using Closest = bool (*)(const void* target, Ray& ray, Hit& hit, const QueryState& state);
   using Any = bool (*)(const void* target, const Ray& ray, const QueryState& state);
@@ -28,6 +37,7 @@ struct QueryEntry {
   Any any[2] = {&blocksNothing, &blocksNothing};
   ClosestPacket closestPacket = &packetMissesAll;
   AnyPacket anyPacket = &packetBlocksNothing;
+  PacketGate packetGate;
 
   // coherent: state.coherent, passed by callers that know it without loading it from the state.
   bool intersect(Ray& ray, Hit& hit, const QueryState& state, bool coherent) const {

@@ -79,6 +79,12 @@ QueryEntry queryEntry(const TriangleWideView<N>& view) {
   }
   entry.closestPacket = view.kernels->closestPacketOfView;
   entry.anyPacket = view.kernels->anyPacketOfView;
+  // makeWideView leaves the root box unbounded (infinite) for a leaf root.
+  entry.packetGate.bounded = !WideNode<N>::isLeaf(view.root);
+  for (int axis = 0; axis < 3; ++axis) {
+    entry.packetGate.lower[axis] = view.rootLower[axis];
+    entry.packetGate.upper[axis] = view.rootUpper[axis];
+  }
   return entry;
 }
 

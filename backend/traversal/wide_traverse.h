@@ -43,11 +43,6 @@ inline constexpr NearRowBytes<N> kNearRowBytes[8] = {nearRowBytesFor<N>(0), near
                                                      nearRowBytesFor<N>(3), nearRowBytesFor<N>(4), nearRowBytesFor<N>(5),
                                                      nearRowBytesFor<N>(6), nearRowBytesFor<N>(7)};
 
-// How far the integer form raises the exit distance, in ulps: at least the relative 2 * gamma(3)
-// of Ize's scaling (kConservativeFarScale), which is under 6 ulps of any float, with room to spare.
-// An integer add, where the float form multiplies.
-constexpr int32_t kConservativeFarUlps = 8;
-
 // The float whose bits are -(kConservativeFarUlps + 1).
 inline float nearAllowanceValue() {
   const int32_t bits = -(kConservativeFarUlps + 1);
