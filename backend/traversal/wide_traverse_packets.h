@@ -478,10 +478,22 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
                                                 f.frameOf(rays), rays, hits, mask, state);
       return 0u;
     }
+    // Rays declared coherent (camera rays) start away from surfaces: their blocks leave out the
+    // check for candidates behind the origin, as the single-ray kernels for such rays do (bunny
+    // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind).
+    if (state.coherent) {
+      for (; mask; mask &= mask - 1) {
+        const int r = __builtin_ctz(mask);
+        if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>, false>(bvh.set, bvh.blocks, firstBlock, blockCount,
+                                                                     f.triangleFrame(rays, r), rays[r], hits[r], state))
+          found |= 1u << r;
+      }
+      return 0u;
+    }
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
-      if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
-                                     hits[r], state))
+      if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
+                                                            f.triangleFrame(rays, r), rays[r], hits[r], state))
         found |= 1u << r;
     }
     return 0u;

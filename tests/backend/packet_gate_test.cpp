@@ -1,7 +1,7 @@
 // A packet's first test (traversal/packet_gate.h): the lanes it turns away hit nothing, in the hard
-// cases of a slab test (origins on the box's planes, rays that do not move along an axis, a box of
-// zero thickness, segments ending on a face, tnear of -0), in the SSE lanes and the scalar reference
-// alike; and it does turn away rays that miss the box.
+// cases of a slab test (origins on the box's planes, directions of +-0 and denormal components, a
+// box of zero thickness, segments ending on a face, tnear of -0), in the SSE lanes and the scalar
+// reference alike; and it does turn away rays that miss the box.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,23 +142,23 @@ TEST(PacketGate, TurnsAwayRaysThatMissAndKeepsOthers) {
   const float lower[3] = {0.f, 0.f, 0.f}, upper[3] = {1.f, 1.f, 1.f};
   GatedTree tree(test::cubeGrid(4, lower, upper));
   const Ray rays[8] = {
-      rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}),                // straight down onto it
-      rayAlong({1.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}),                // beside it, not moving along x
-      rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, 1.f}),                 // the box behind the origin
-      rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, 0.f, 1.5f),     // the segment ends short
-      rayAlong({1.f, 0.5f, 3.f}, {0.f, 0.f, -1.f}),                 // in the plane of a face
-      rayAlong({0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}, -0.f),          // tnear -0: another form, kept
-      rayAlong({-2.f, 0.5f, 0.5f}, {1.f, 1.f, 0.f}),                // passes above an edge
-      rayAlong({0.5f, 0.5f, 0.5f}, {0.3f, -0.2f, 1.f}),             // from inside
+      rayAlong({0.5f, 0.5f, 3.f}, {0.01f, 0.01f, -1.f}),             // down onto it
+      rayAlong({1.5f, 0.5f, 3.f}, {0.1f, 0.1f, -1.f}),               // beside it
+      rayAlong({0.5f, 0.5f, 3.f}, {0.01f, 0.01f, 1.f}),              // the box behind the origin
+      rayAlong({0.5f, 0.5f, 3.f}, {0.01f, 0.01f, -1.f}, 0.f, 1.5f),  // the segment ends short
+      rayAlong({0.5f, 1.f, 3.f}, {0.f, 0.f, -1.f}),                  // not moving along x, y, onto a face's edge
+      rayAlong({0.5f, 0.5f, 3.f}, {0.01f, 0.01f, -1.f}, -0.f),       // tnear -0: another form, kept
+      rayAlong({-2.f, 0.5f, 0.5f}, {1.f, 1.f, 0.f}),                 // passes above an edge
+      rayAlong({1.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}),                 // beside it, not moving along x, y
   };
-  EXPECT_EQ(missingLanes(tree.gate, rays, 8), 0b01001110);
+  EXPECT_EQ(missingLanes(tree.gate, rays, 8), 0b11001110);
 }
 
 // A tree whose root is a leaf has no box to test against: nothing is turned away.
 TEST(PacketGate, LeafRootTurnsNothingAway) {
   GatedTree tree(test::triangleFan(3));
   EXPECT_FALSE(tree.gate.bounded);
-  const Ray away = rayAlong({5.f, 5.f, 5.f}, {1.f, 0.f, 0.f});
+  const Ray away = rayAlong({5.f, 5.f, 5.f}, {1.f, 0.5f, 0.25f});
   const Ray rays[8] = {away, away, away, away, away, away, away, away};
   EXPECT_EQ(missingLanes(tree.gate, rays, 8), 0);
 }
