@@ -480,7 +480,8 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     }
     // Rays declared coherent (camera rays) start away from surfaces: their blocks leave out the
     // check for candidates behind the origin, as the single-ray kernels for such rays do (bunny
-    // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind).
+    // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind). Two loops: one generic
+    // lambda instantiated for both took 5 instructions a ray more.
     if (state.coherent) {
       for (; mask; mask &= mask - 1) {
         const int r = __builtin_ctz(mask);
