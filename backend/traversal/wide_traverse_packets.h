@@ -155,8 +155,8 @@ struct PacketLanes {
       const bool positive = invLow > 0.f;
       nearBoundOrg[axis] = FN::broadcast(positive ? orgHigh : orgLow);
       farBoundOrg[axis] = FN::broadcast(positive ? orgLow : orgHigh);
-      invBounds[axis][0] = FN::broadcast(invLow);
-      invBounds[axis][1] = FN::broadcast(invHigh);
+      invNear[axis] = FN::broadcast(positive ? invLow : invHigh);
+      invFar[axis] = FN::broadcast(positive ? invHigh : invLow);
     }
     // Rays that move along no axis: the single-ray frame's float form.
     if (zeroAxes == 7) return;
@@ -169,7 +169,12 @@ struct PacketLanes {
   // packet's bounds. Every step is monotone in its operands (rounded subtraction and
   // multiplication, min, max), so the bounds are bounds of the values each ray computes, not only
   // of exact ones: nearLow <= every ray's entry distance and farHigh >= every ray's exit distance,
-  // and a child with nearLow > farHigh is entered by none. An unused child (NaN bounds) gets a NaN
+  // and a child with nearLow > farHigh is entered by none. One product a plane: a distance is at
+  // its lowest with the 1/dir of the smallest magnitude (invNear) and at its highest with that of
+  // the largest (invFar) wherever it is positive, and negative distances need no tight bound (an
+  // entry below the smallest tnear, >= 0, decides nothing; an exit below zero admits no ray either
+  // way). With both products' minimum and maximum, the test took about 11 instructions more a node
+  // (callgrind, bunny coherent rtcIntersect8). An unused child (NaN bounds) gets a NaN
   // nearLow and fails, as in the per-ray test. nearBound gets nearLow.
   // kZeroAxes: zeroAxes is not 0. Along a zero axis a ray enters exactly the slabs that hold its
   // origin (the float form's test, which the integer form's infinite distances reproduce): no ray
@@ -187,9 +192,9 @@ struct PacketLanes {
         continue;
       }
       const FN dn = FN::load(node.bounds[nearRow[axis]]) - nearBoundOrg[axis];
-      nearLow = max(nearLow, min(dn * invBounds[axis][0], dn * invBounds[axis][1]));
+      nearLow = max(nearLow, dn * invNear[axis]);
       const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
-      farHigh = min(farHigh, max(df * invBounds[axis][0], df * invBounds[axis][1]));
+      farHigh = min(farHigh, df * invFar[axis]);
     }
     farHigh = min(bitsPlus(farHigh, kConservativeFarUlps), FN::broadcast(tfarHigh));
     nearLow.store(nearBound);
@@ -280,7 +285,8 @@ struct PacketLanes {
  private:
   FN nearBoundOrg[3], farBoundOrg[3];  // the origin bound that bounds each plane's distance
   FN orgBounds[3][2];                  // lowest and highest origin, along the zero axes
-  FN invBounds[3][2];                  // lowest and highest 1/dir
+  // Per axis, the 1/dir of the smallest magnitude and that of the largest (mayEnter).
+  FN invNear[3], invFar[3];
   float tnearLow = 0.f, tfarHigh = 0.f;
 };
 
