@@ -179,22 +179,24 @@ struct PacketLanes {
   // kZeroAxes: zeroAxes is not 0. Along a zero axis a ray enters exactly the slabs that hold its
   // origin (the float form's test, which the integer form's infinite distances reproduce): no ray
   // enters a slab that the packet's range of origins misses.
+  // planes gets the node's near planes (x, y, z) and far planes, in the rays' order.
   template <bool kZeroAxes, int N>
-  int mayEnter(const WideNode<N>& node, float nearBound[N]) const {
+  int mayEnter(const WideNode<N>& node, float nearBound[N], float planes[6][N]) const {
     static_assert(N == kLanes, "one lane per child");
     FN nearLow = FN::broadcast(tnearLow);
     FN farHigh = FN::broadcast(std::numeric_limits<float>::infinity());
     int inside = (1 << N) - 1;
     for (int axis = 0; axis < 3; ++axis) {
+      const FN nearPlane = FN::load(node.bounds[nearRow[axis]]), farPlane = FN::load(node.bounds[farRow[axis]]);
+      nearPlane.store(planes[axis]);
+      farPlane.store(planes[3 + axis]);
       if (kZeroAxes && ((zeroAxes >> axis) & 1)) {
         inside &= lessEqualMask(FN::load(node.bounds[axis * 2]), orgBounds[axis][1]) &
                   lessEqualMask(orgBounds[axis][0], FN::load(node.bounds[axis * 2 + 1]));
         continue;
       }
-      const FN dn = FN::load(node.bounds[nearRow[axis]]) - nearBoundOrg[axis];
-      nearLow = max(nearLow, dn * invNear[axis]);
-      const FN df = FN::load(node.bounds[farRow[axis]]) - farBoundOrg[axis];
-      farHigh = min(farHigh, df * invFar[axis]);
+      nearLow = max(nearLow, (nearPlane - nearBoundOrg[axis]) * invNear[axis]);
+      farHigh = min(farHigh, (farPlane - farBoundOrg[axis]) * invFar[axis]);
     }
     farHigh = min(bitsPlus(farHigh, kConservativeFarUlps), FN::broadcast(tfarHigh));
     nearLow.store(nearBound);
@@ -212,7 +214,10 @@ struct PacketLanes {
   template <bool kZeroAxes, int kGroups, int N>
   int intersectNode(const WideNode<N>& node, uint32_t rays, uint32_t childRays[N], float childEntry[N]) const {
     int entered = 0;
-    const int candidateChildren = mayEnter<kZeroAxes>(node, childEntry);
+    // Each child's planes are broadcast from this copy in the rays' order: from the node's rows,
+    // each broadcast took an address computed from the rays' row choice.
+    alignas(32) float planes[6][N];
+    const int candidateChildren = mayEnter<kZeroAxes>(node, childEntry, planes);
     if (candidateChildren == 0) return 0;
     for (int g = 0; g < kGroups; ++g) {
       const uint32_t groupRays = (rays >> (g * kLanes)) & ((1u << kLanes) - 1);
@@ -225,8 +230,8 @@ struct PacketLanes {
         const int c = __builtin_ctz(unsigned(candidates));
         FN entryT[3], exitT[3];
         for (int axis = 0; axis < 3; ++axis) {
-          entryT[axis] = (o[axis] - FN::broadcast(node.bounds[nearRow[axis]][c])) * negInv[axis];
-          exitT[axis] = (o[axis] - FN::broadcast(node.bounds[farRow[axis]][c])) * negInv[axis];
+          entryT[axis] = (o[axis] - FN::broadcast(planes[axis][c])) * negInv[axis];
+          exitT[axis] = (o[axis] - FN::broadcast(planes[3 + axis][c])) * negInv[axis];
           // As intersectWideNode's form kBitsZeroAxes: a NaN exit (origin on a plane) becomes +inf.
           if (kZeroAxes) exitT[axis] = min(exitT[axis], FN::broadcast(std::numeric_limits<float>::infinity()));
         }
