@@ -183,6 +183,7 @@ class SahCollapser {
   // The wide subtree a binary node roots when the collapse makes it a node or leaf of its own.
   struct SubtreeSize {
     uint32_t nodes, blocks;
+    SubtreeSize operator+(const SubtreeSize& o) const { return {nodes + o.nodes, blocks + o.blocks}; }
   };
   // The top levels of the binary tree are planned, and their subtrees written, as parallel tasks.
   static constexpr int kParallelDepth = 6;
@@ -193,8 +194,13 @@ class SahCollapser {
   // What a parent's choice needs of a child: cost[i - 1] is the cheapest forest of at most i roots
   // standing for the child's subtree. Returned up the recursion, not kept: a table of them was as
   // large as the plans (tens of MB to fault in for the large meshes).
+  // size[i - 1] is that forest's size (its roots' wide subtrees together): a node's own size then
+  // comes from its children's plans, without gathering its wide children (gathered for every binary
+  // node, they took about a sixth of the collapse's time, perf, dragon; the write still gathers
+  // them for the nodes it writes).
   struct SubtreePlan {
     float cost[N];
+    SubtreeSize size[N];
     PrimRange range;
   };
 
@@ -220,6 +226,7 @@ class SahCollapser {
     sizes_[node] = {0, WideWriter<N>::blockCount(b.primCount)};
     SubtreePlan out;
     chooseLeaf(plan.forest, b.bounds.halfArea() * blocks(b.primCount), out.cost);
+    std::fill_n(out.size, N, sizes_[node]);
     out.range = plan.range;
     return out;
   }
@@ -234,15 +241,18 @@ class SahCollapser {
     SubtreePlan out;
     out.range = plan.range;
     chooseInterior(l.cost, r.cost, area, asLeaf, plan.forest, out.cost);
-    if (plan.forest.leafChosen) {
-      sizes_[node] = {0, WideWriter<N>::blockCount(plan.range.count)};
-      return out;
+    // The forest of j roots from the children, as gatherForest assembles it.
+    const auto forestSize = [&](int j) {
+      const int k = plan.forest.split[j - 1];
+      return l.size[k - 1] + r.size[j - k - 1];
+    };
+    const SubtreeSize alone = plan.forest.leafChosen ? SubtreeSize{0, WideWriter<N>::blockCount(plan.range.count)}
+                                                     : SubtreeSize{1, 0} + forestSize(N);
+    sizes_[node] = alone;
+    for (int i = 1; i <= N; ++i) {
+      const int roots = plan.forest.roots[i - 1];
+      out.size[i - 1] = roots == 1 ? alone : forestSize(roots);
     }
-    uint32_t children[N];
-    const int count = wideChildren(node, children);
-    SubtreeSize size{1, 0};
-    for (int c = 0; c < count; ++c) size.nodes += sizes_[children[c]].nodes, size.blocks += sizes_[children[c]].blocks;
-    sizes_[node] = size;
     return out;
   }
 
