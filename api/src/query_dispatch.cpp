@@ -352,7 +352,50 @@ void occludedInLaneGroups(const int* valid, RTCRayN* rayN, Width width, bool mas
   }
 }
 
+#ifdef __SSE2__
+// gatherStreamLanesByEights on a CPU with AVX2: an application ray's first eight floats (org,
+// tnear, dir, time) are a backend ray's.
+__attribute__((target("avx2"))) uint32_t gatherStreamLanesInAvx2(const RTCRay* const application[8], bool masksOn,
+                                                                 const PacketGate& gate, Ray* rays) {
+  static_assert(offsetof(RTCRay, org_x) == 0 && offsetof(RTCRay, tnear) == 12 && offsetof(RTCRay, dir_x) == 16 &&
+                offsetof(RTCRay, time) == 28);
+  using F = simd::Float8Avx;
+  const float* leadingRows[8];
+  for (int k = 0; k < 8; ++k) leadingRows[k] = &application[k]->org_x;
+  F leading[8];  // org x, y, z, tnear, dir x, y, z, time of the eight rays
+  F::loadColumnsOf(leadingRows, leading);
+  const F tfar = F::fromLanes([&](int k) { return application[k]->tfar; });
+  const int empty = _mm256_movemask_ps(_mm256_cmp_ps(leading[3].v, tfar.v, _CMP_GT_OQ));  // tnear > tfar
+  int live = ~empty & 255;
+  if (live == 0) return 0;
+  live &= ~lanesMissingGate(gate, leading, leading + 4, leading[3], tfar, live);
+  for (uint32_t m = uint32_t(live); m; m &= m - 1) {
+    const int k = __builtin_ctz(m);
+    rays[k] = backendRay(*application[k], masksOn);
+  }
+  return uint32_t(live);
+}
+#endif
+
 }  // namespace
+
+bool streamGathersInEights() {
+#ifdef __SSE2__
+  return simd::cpuHasAvx2();
+#else
+  return false;
+#endif
+}
+
+uint32_t gatherStreamLanesByEights(const RTCRay* const application[8], bool masksOn, const PacketGate& gate,
+                                   Ray* rays) {
+#ifdef __SSE2__
+  return gatherStreamLanesInAvx2(application, masksOn, gate, rays);
+#else
+  (void)application, (void)masksOn, (void)gate, (void)rays;
+  return 0;
+#endif
+}
 
 void intersectPacketDirectly(const QueryEntry& entry, const Scene& scene, const RTCIntersectContext& context,
                              const int* valid, RTCRayHitN* packet, unsigned N) {

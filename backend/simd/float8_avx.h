@@ -74,8 +74,14 @@ struct Float8Avx {
   // See FloatScalar::loadColumns: eight rows, interleaved in pairs, then in fours, then halves
   // exchanged.
   OBVH_AVX2 static void loadColumns(const float* p, size_t stride, Float8Avx out[8]) {
+    const float* rows[8];
+    for (int i = 0; i < 8; ++i) rows[i] = p + size_t(i) * stride;
+    loadColumnsOf(rows, out);
+  }
+  // loadColumns of eight rows anywhere (row i at rows[i]): out[c] lane i is rows[i][c].
+  OBVH_AVX2 static void loadColumnsOf(const float* const rows[8], Float8Avx out[8]) {
     __m256 row[8];
-    for (int i = 0; i < 8; ++i) row[i] = _mm256_loadu_ps(p + size_t(i) * stride);
+    for (int i = 0; i < 8; ++i) row[i] = _mm256_loadu_ps(rows[i]);
     __m256 pairs[8], fours[8];
     for (int i = 0; i < 8; i += 2) {
       pairs[i] = _mm256_unpacklo_ps(row[i], row[i + 1]);      // columns 0, 1 | 4, 5 of rows i, i + 1

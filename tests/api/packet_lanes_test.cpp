@@ -8,6 +8,7 @@
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -241,6 +242,77 @@ TEST_P(PacketLanes, OccludedLanesAnswerAsSingleRays) {
 TEST_P(PacketLanes, CoherentStreamsAnswerAsSingleRays) {
   expectCoherentStreamAnswersAsSingleRays(1003);
   expectCoherentStreamOccludesAsSingleRays(1003);
+}
+
+// Coherent streams whose rays' packets miss the scene's box whole, in part, or along its faces:
+// packets of eight go through the structure's box first (the packet gate) where the scene's rays
+// may go straight to the kernels, and each ray must still answer as rtcIntersect1 answers it alone
+// (a ray that misses keeps its tfar and hit). Rays along the axes start outside, on and inside
+// the box's planes; others start beside the box, carry NaN origins or directions, or negative,
+// -0 or empty segments.
+TEST_P(PacketLanes, CoherentStreamsTurnAwayOnlyRaysThatMiss) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> inside(0.1f, 7.9f), beside(8.5f, 20.f), tilt(-0.2f, 0.2f);
+  // The box's planes and just beyond them, for rays straight down (x and y are axes they do not
+  // move along) and rays along x (y and z).
+  const float edges[] = {0.f, 8.f, std::nextafter(0.f, -1.f), std::nextafter(8.f, 9.f), -0.f, 4.f};
+  constexpr unsigned kPackets = 160;
+  std::vector<RTCRayHit> single(kPackets * 8);
+  for (unsigned i = 0; i < single.size(); ++i) {
+    const unsigned kind = (i / 8) % 5, lane = i % 8;
+    RTCRay ray{};
+    ray.org_x = inside(rng), ray.org_y = inside(rng), ray.org_z = 3.f;
+    ray.dir_x = tilt(rng), ray.dir_y = tilt(rng), ray.dir_z = -1.f;
+    ray.tfar = kInf;
+    ray.mask = 3;
+    if (kind == 0 || (kind == 1 && lane % 2 == 0)) {  // beside the box: the whole packet, or half of it
+      ray.org_x = beside(rng);
+      ray.dir_x = std::abs(ray.dir_x);
+    } else if (kind == 2) {  // straight down, from on, inside and beyond the box's planes
+      ray.org_x = edges[rng() % 6], ray.org_y = edges[rng() % 6];
+      ray.dir_x = lane % 2 ? 0.f : -0.f, ray.dir_y = 0.f;
+    } else if (kind == 3) {  // along x, at heights on, inside and beyond the box's z planes
+      const float heights[] = {0.f, 1.f, 0.5f, std::nextafter(1.f, 2.f), -0.f, 2.f};
+      ray.org_x = lane % 2 ? -3.f : 11.f, ray.org_z = heights[rng() % 6];
+      ray.dir_x = lane % 2 ? 1.f : -1.f, ray.dir_y = 0.f, ray.dir_z = 0.f;
+    }
+    switch (rng() % 8) {  // odd rays anywhere in a packet
+      case 0: ray.tnear = -1.f; break;
+      case 1: ray.tnear = -0.f; break;
+      case 2: ray.tnear = 5.f, ray.tfar = 2.f; break;  // empty
+      case 3: if (kind == 4) ray.org_y = nan; break;
+      case 4: if (kind == 4) ray.dir_z = nan; break;
+      default: break;
+    }
+    single[i].ray = ray;
+    single[i].hit.geomID = single[i].hit.primID = RTC_INVALID_GEOMETRY_ID;
+  }
+  std::vector<RTCRayHit> stream = single, pointed = single;
+  std::vector<RTCRayHit*> pointers;
+  for (RTCRayHit& r : pointed) pointers.push_back(&r);
+  rtcIntersect1M(scene, &context, stream.data(), unsigned(stream.size()), sizeof(RTCRayHit));
+  rtcIntersect1Mp(scene, &context, pointers.data(), unsigned(pointers.size()));
+  size_t hits = 0, misses = 0;
+  for (size_t i = 0; i < single.size(); ++i) {
+    RTCRayHit alone = single[i];
+    rtcIntersect1(scene, &context, &alone);
+    for (const RTCRayHit* traced : {&stream[i], &pointed[i]}) {
+      const char* how = traced == &stream[i] ? "1M" : "1Mp";
+      EXPECT_EQ(traced->hit.geomID, alone.hit.geomID) << how << " ray " << i;
+      EXPECT_EQ(std::memcmp(&traced->ray.tfar, &alone.ray.tfar, sizeof(float)), 0) << how << " ray " << i;
+      if (alone.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      EXPECT_EQ(traced->hit.primID, alone.hit.primID) << how << " ray " << i;
+      EXPECT_EQ(traced->hit.u, alone.hit.u) << how << " ray " << i;
+      EXPECT_EQ(traced->hit.v, alone.hit.v) << how << " ray " << i;
+    }
+    (alone.hit.geomID == RTC_INVALID_GEOMETRY_ID ? misses : hits)++;
+  }
+  EXPECT_GT(hits, single.size() / 4);
+  EXPECT_GT(misses, single.size() / 4);
 }
 
 INSTANTIATE_TEST_SUITE_P(RayMasks, PacketLanes,
