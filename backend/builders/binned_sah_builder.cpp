@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 
+#include "builders/binary_node_storage.h"
 #include "memory/huge_pages.h"
 #include "simd/float4_sse.h"
 
@@ -191,11 +192,12 @@ class BinnedSahBuilder {
     out_.nodes.clear();
     out_.primIndices.clear();
     if (n == 0) return;
-    reserveWithHugePages(out_.nodes, 2 * n - 1);
-    out_.nodes.resize(2 * n - 1);
+    BinaryNodeStorage nodes(n);
+    nodes_ = &nodes;
     nodeCount_ = 1;
     buildNode(0, 0, n, rangeInfo(0, n), 0, Scratch{});
-    out_.nodes.resize(nodeCount_.load());
+    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes_ = nullptr;
     reserveWithHugePages(out_.primIndices, n);
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
@@ -368,7 +370,7 @@ class BinnedSahBuilder {
   }
 
   void makeLeaf(uint32_t nodeIndex, size_t begin, size_t end, const Box3f& bounds) {
-    Bvh2Node& node = out_.nodes[nodeIndex];
+    Bvh2Node& node = nodes_->make(nodeIndex);
     node.bounds = bounds;
     node.firstChildOrPrim = uint32_t(begin);
     node.primCount = uint32_t(end - begin);
@@ -434,7 +436,7 @@ class BinnedSahBuilder {
     }
 
     const uint32_t left = nodeCount_.fetch_add(2);
-    Bvh2Node& node = out_.nodes[nodeIndex];
+    Bvh2Node& node = nodes_->make(nodeIndex);
     node.bounds = info.bounds();
     node.firstChildOrPrim = left;
     node.primCount = 0;
@@ -457,6 +459,7 @@ class BinnedSahBuilder {
   std::vector<PrimRef>& refs_;
   BuildOptions options_;
   BinaryBvh& out_;
+  BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
   std::atomic<uint32_t> nodeCount_{0};
 };
 

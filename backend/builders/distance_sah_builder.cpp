@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "builders/binary_node_storage.h"
 #include "builders/deterministic_reduce.h"
 #include "builders/object_median.h"
 
@@ -50,10 +51,12 @@ class DistanceSahBuilder {
 
   void run() {
     const size_t n = refs_.size();
-    out_.nodes.resize(2 * n - 1);
+    BinaryNodeStorage nodes(n);
+    nodes_ = &nodes;
     nodeCount_ = 1;
     build(0, 0, n, 0);
-    out_.nodes.resize(nodeCount_.load());
+    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes_ = nullptr;
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
   }
@@ -113,7 +116,7 @@ class DistanceSahBuilder {
     const NodeInfo info = reduceDeterministically<NodeInfo>(begin, end, [&](size_t b, size_t e, NodeInfo& acc) {
       for (size_t i = b; i < e; ++i) acc.bounds.extend(refs_[i].bounds), acc.centroids.extend(refs_[i].bounds.center2());
     });
-    Bvh2Node& node = out_.nodes[nodeIndex];
+    Bvh2Node& node = nodes_->make(nodeIndex);
     node.bounds = info.bounds;
     if (n <= size_t(std::max(options_.maxLeafSize, 1))) {
       node.firstChildOrPrim = uint32_t(begin);
@@ -159,6 +162,7 @@ class DistanceSahBuilder {
   BuildOptions options_;
   double alpha_;
   BinaryBvh& out_;
+  BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
   std::atomic<uint32_t> nodeCount_{0};
 };
 

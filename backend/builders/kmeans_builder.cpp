@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "builders/binary_node_storage.h"
 #include "builders/deterministic_reduce.h"
 #include "builders/object_median.h"
 
@@ -52,10 +53,12 @@ class KMeansBuilder {
 
   void run() {
     const size_t n = refs_.size();
-    out_.nodes.resize(2 * n - 1);
+    BinaryNodeStorage nodes(n);
+    nodes_ = &nodes;
     nodeCount_ = 1;
     build(0, 0, n, 0);
-    out_.nodes.resize(nodeCount_.load());
+    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes_ = nullptr;
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
   }
@@ -69,7 +72,7 @@ class KMeansBuilder {
   Box3f build(uint32_t nodeIndex, size_t begin, size_t end, int depth) {
     const size_t n = end - begin;
     if (n <= maxLeaf_) {
-      Bvh2Node& node = out_.nodes[nodeIndex];
+      Bvh2Node& node = nodes_->make(nodeIndex);
       Box3f box;
       for (size_t i = begin; i < end; ++i) box.extend(refs_[i].bounds);
       node.bounds = box;
@@ -99,7 +102,7 @@ class KMeansBuilder {
       buildLeft();
       buildRight();
     }
-    Bvh2Node& node = out_.nodes[nodeIndex];  // preallocated: no reallocation while children build
+    Bvh2Node& node = nodes_->make(nodeIndex);  // made once its children are built
     node.firstChildOrPrim = left;
     node.primCount = 0;
     node.bounds = leftBox;
@@ -197,6 +200,7 @@ class KMeansBuilder {
   BinaryBvh& out_;
   std::vector<uint8_t> cluster_;  // per position in refs_: the cluster of the node being split
   std::vector<PrimRef> scratch_;
+  BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
   std::atomic<uint32_t> nodeCount_{0};
 };
 

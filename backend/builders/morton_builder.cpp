@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstdint>
 
+#include "builders/binary_node_storage.h"
 #include "memory/huge_pages.h"
 
 namespace obvh {
@@ -39,17 +40,17 @@ class MortonBuilder {
 
   void run() {
     const size_t n = keys_.size();
-    // Tens of MB for the large meshes: 4 KiB first touches took a fifth of the dragon's LOW build.
-    reserveWithHugePages(out_.nodes, 2 * n - 1);
-    out_.nodes.resize(2 * n - 1);
+    BinaryNodeStorage nodes(n);
+    nodes_ = &nodes;
     nodeCount_ = 1;
     build(0, 0, n);
-    out_.nodes.resize(nodeCount_.load());
+    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes_ = nullptr;
   }
 
  private:
   Box3f build(uint32_t nodeIndex, size_t begin, size_t end) {
-    Bvh2Node& node = out_.nodes[nodeIndex];
+    Bvh2Node& node = nodes_->make(nodeIndex);
     const size_t n = end - begin;
     if (n <= maxLeaf_) {
       Box3f box;
@@ -92,6 +93,7 @@ class MortonBuilder {
   const std::vector<PrimRef>& refs_;
   size_t maxLeaf_;
   BinaryBvh& out_;
+  BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
   std::atomic<uint32_t> nodeCount_{0};
 };
 
