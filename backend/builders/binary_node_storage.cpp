@@ -10,7 +10,8 @@ BinaryNodeStorage::BinaryNodeStorage(size_t primitives) {
   adviseHugePages(bytes_.get(), bytes);
 }
 
-void BinaryNodeStorage::copyOut(uint32_t count, std::vector<Bvh2Node>& nodes) const {
+void BinaryNodeStorage::copyOut(std::vector<Bvh2Node>& nodes) const {
+  const uint32_t count = claimed_.load();
   const Bvh2Node* made = std::launder(reinterpret_cast<const Bvh2Node*>(bytes_.get()));
   nodes.clear();
   reserveWithHugePages(nodes, count);

@@ -6,6 +6,7 @@
 // 1.08x as fast without).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -22,18 +23,23 @@ class BinaryNodeStorage {
                 "nodes are copied out of the storage and never destroyed in it");
 
  public:
-  // Room for the nodes of a tree over `primitives` leaves at most.
+  // Room for the nodes of a tree over `primitives` leaves at most; index 0, the root, is claimed.
   explicit BinaryNodeStorage(size_t primitives);
 
-  // Node `index`, made (with Bvh2Node's defaults) for the builder to fill in. Each index is made
-  // once, by one thread.
+  // The first of two consecutive indices for an interior node's children (left, then right),
+  // claimed by any thread.
+  uint32_t claimPair() { return claimed_.fetch_add(2); }
+
+  // Node `index` (claimed), made (with Bvh2Node's defaults) for the builder to fill in. Each index
+  // is made once, by one thread.
   Bvh2Node& make(uint32_t index) { return *::new (bytes_.get() + size_t(index) * sizeof(Bvh2Node)) Bvh2Node; }
 
-  // Nodes [0, count), every one of them made, into nodes (replacing its contents).
-  void copyOut(uint32_t count, std::vector<Bvh2Node>& nodes) const;
+  // The claimed nodes, every one of them made, into nodes (replacing its contents).
+  void copyOut(std::vector<Bvh2Node>& nodes) const;
 
  private:
   std::unique_ptr<unsigned char[]> bytes_;  // new[] of bytes: not written, so no page touched
+  std::atomic<uint32_t> claimed_{1};
 };
 
 }  // namespace obvh

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstring>
 #include <emmintrin.h>
@@ -194,9 +193,8 @@ class BinnedSahBuilder {
     if (n == 0) return;
     BinaryNodeStorage nodes(n);
     nodes_ = &nodes;
-    nodeCount_ = 1;
     buildNode(0, 0, n, rangeInfo(0, n), 0, Scratch{});
-    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes.copyOut(out_.nodes);
     nodes_ = nullptr;
     reserveWithHugePages(out_.primIndices, n);
     out_.primIndices.resize(n);
@@ -435,7 +433,7 @@ class BinnedSahBuilder {
       childInfoKnown = false;
     }
 
-    const uint32_t left = nodeCount_.fetch_add(2);
+    const uint32_t left = nodes_->claimPair();
     Bvh2Node& node = nodes_->make(nodeIndex);
     node.bounds = info.bounds();
     node.firstChildOrPrim = left;
@@ -460,7 +458,6 @@ class BinnedSahBuilder {
   BuildOptions options_;
   BinaryBvh& out_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
-  std::atomic<uint32_t> nodeCount_{0};
 };
 
 }  // namespace

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -53,9 +52,8 @@ class DistanceSahBuilder {
     const size_t n = refs_.size();
     BinaryNodeStorage nodes(n);
     nodes_ = &nodes;
-    nodeCount_ = 1;
     build(0, 0, n, 0);
-    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes.copyOut(out_.nodes);
     nodes_ = nullptr;
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
@@ -144,7 +142,7 @@ class DistanceSahBuilder {
     if (middle == begin || middle == end) {  // no usable split (or too deep): object median
       middle = splitAtObjectMedian(refs_, begin, end, info.centroids);
     }
-    const uint32_t left = nodeCount_.fetch_add(2);
+    const uint32_t left = nodes_->claimPair();
     node.firstChildOrPrim = left;
     node.primCount = 0;
     const auto buildLeft = [&] { build(left, begin, middle, depth + 1); };
@@ -163,7 +161,6 @@ class DistanceSahBuilder {
   double alpha_;
   BinaryBvh& out_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
-  std::atomic<uint32_t> nodeCount_{0};
 };
 
 }  // namespace

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <limits>
 
@@ -55,9 +54,8 @@ class KMeansBuilder {
     const size_t n = refs_.size();
     BinaryNodeStorage nodes(n);
     nodes_ = &nodes;
-    nodeCount_ = 1;
     build(0, 0, n, 0);
-    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes.copyOut(out_.nodes);
     nodes_ = nullptr;
     out_.primIndices.resize(n);
     for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
@@ -91,7 +89,7 @@ class KMeansBuilder {
   Box3f buildGroup(uint32_t nodeIndex, const Range* ranges, size_t count, int depth) {
     if (count == 1) return build(nodeIndex, ranges[0].begin, ranges[0].end, depth + 1);
     const size_t half = count / 2;
-    const uint32_t left = nodeCount_.fetch_add(2);
+    const uint32_t left = nodes_->claimPair();
     Box3f leftBox, rightBox;
     const size_t size = ranges[count - 1].end - ranges[0].begin;
     const auto buildLeft = [&] { leftBox = buildGroup(left, ranges, half, depth + 1); };
@@ -201,7 +199,6 @@ class KMeansBuilder {
   std::vector<uint8_t> cluster_;  // per position in refs_: the cluster of the node being split
   std::vector<PrimRef> scratch_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
-  std::atomic<uint32_t> nodeCount_{0};
 };
 
 }  // namespace

@@ -7,7 +7,6 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 
 #include "builders/binary_node_storage.h"
@@ -42,9 +41,8 @@ class MortonBuilder {
     const size_t n = keys_.size();
     BinaryNodeStorage nodes(n);
     nodes_ = &nodes;
-    nodeCount_ = 1;
     build(0, 0, n);
-    nodes.copyOut(nodeCount_.load(), out_.nodes);
+    nodes.copyOut(out_.nodes);
     nodes_ = nullptr;
   }
 
@@ -73,7 +71,7 @@ class MortonBuilder {
                                               [&](const Keyed& k) { return (k.code & bit) == 0; });
       middle = size_t(split - keys_.begin());
     }
-    const uint32_t left = nodeCount_.fetch_add(2);
+    const uint32_t left = nodes_->claimPair();
     node.firstChildOrPrim = left;
     node.primCount = 0;
     Box3f leftBox, rightBox;
@@ -94,7 +92,6 @@ class MortonBuilder {
   size_t maxLeaf_;
   BinaryBvh& out_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
-  std::atomic<uint32_t> nodeCount_{0};
 };
 
 }  // namespace
