@@ -5,11 +5,17 @@
 // and validity, and inactive lanes stay untouched. Streams of single rays declared coherent
 // (rtcIntersect1M/1Mp, rtcOccluded1M/1Mp) are traced as packets of consecutive rays: each ray must
 // answer as itself alone, whatever its place in a packet, its stride or a skipped (null) entry.
+// The packet queries prefetch the memory after the packet: one that ends where the process's
+// memory ends must answer as any other.
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstring>
+#include <new>
 #include <limits>
 #include <random>
 #include <vector>
@@ -81,15 +87,16 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
     rays.mask[i] = r.mask, rays.id[i] = r.id, rays.flags[i] = 0;
   }
 
+  // packet: where the packets lie, one after the other (the caller's storage).
   template <int W, typename PacketHit>
-  void expectLanesAnswerAsSingleRays(void (*intersectW)(const int*, RTCScene, RTCIntersectContext*, PacketHit*)) {
+  void expectLanesAnswerAsSingleRays(void (*intersectW)(const int*, RTCScene, RTCIntersectContext*, PacketHit*),
+                                     PacketHit& packet) {
     std::mt19937 rng(W);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     size_t hits = 0;
     for (int p = 0; p < 200; ++p) {
       alignas(64) int valid[W];
-      alignas(64) PacketHit packet;
       std::vector<RTCRayHit> single(W);
       for (int i = 0; i < W; ++i) {
         valid[i] = rng() % 4 == 0 ? 0 : -1;
@@ -119,14 +126,14 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
   }
 
   template <int W, typename Packet>
-  void expectLanesOccludeAsSingleRays(void (*occludedW)(const int*, RTCScene, RTCIntersectContext*, Packet*)) {
+  void expectLanesOccludeAsSingleRays(void (*occludedW)(const int*, RTCScene, RTCIntersectContext*, Packet*),
+                                      Packet& packet) {
     std::mt19937 rng(W + 100);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     size_t occluded = 0, open = 0;
     for (int p = 0; p < 200; ++p) {
       alignas(64) int valid[W];
-      alignas(64) Packet packet;
       std::vector<RTCRay> single(W);
       for (int i = 0; i < W; ++i) {
         valid[i] = rng() % 4 == 0 ? 0 : -1;
@@ -228,15 +235,60 @@ class PacketLanes : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(PacketLanes, IntersectLanesAnswerAsSingleRays) {
-  expectLanesAnswerAsSingleRays<4>(rtcIntersect4);
-  expectLanesAnswerAsSingleRays<8>(rtcIntersect8);
-  expectLanesAnswerAsSingleRays<16>(rtcIntersect16);
+  RTCRayHit4 packet4;
+  RTCRayHit8 packet8;
+  RTCRayHit16 packet16;
+  expectLanesAnswerAsSingleRays<4>(rtcIntersect4, packet4);
+  expectLanesAnswerAsSingleRays<8>(rtcIntersect8, packet8);
+  expectLanesAnswerAsSingleRays<16>(rtcIntersect16, packet16);
 }
 
 TEST_P(PacketLanes, OccludedLanesAnswerAsSingleRays) {
-  expectLanesOccludeAsSingleRays<4>(rtcOccluded4);
-  expectLanesOccludeAsSingleRays<8>(rtcOccluded8);
-  expectLanesOccludeAsSingleRays<16>(rtcOccluded16);
+  RTCRay4 packet4;
+  RTCRay8 packet8;
+  RTCRay16 packet16;
+  expectLanesOccludeAsSingleRays<4>(rtcOccluded4, packet4);
+  expectLanesOccludeAsSingleRays<8>(rtcOccluded8, packet8);
+  expectLanesOccludeAsSingleRays<16>(rtcOccluded16, packet16);
+}
+
+// Two pages of their own, the second one closed to every access: a packet placed at the end of the
+// first ends where the memory the process may touch ends.
+class GuardedPage {
+ public:
+  GuardedPage() : size_(size_t(sysconf(_SC_PAGESIZE))) {
+    void* mapping = mmap(nullptr, 2 * size_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapping == MAP_FAILED) return;
+    base_ = static_cast<char*>(mapping);
+    if (mprotect(base_ + size_, size_, PROT_NONE) != 0) munmap(base_, 2 * size_), base_ = nullptr;
+  }
+  ~GuardedPage() {
+    if (base_) munmap(base_, 2 * size_);
+  }
+  bool usable() const { return base_ != nullptr; }
+  // Embree's packet types' sizes are multiples of their alignment (and of 64 bytes).
+  template <typename Packet>
+  Packet& packetAtEnd() const {
+    return *::new (base_ + size_ - sizeof(Packet)) Packet;
+  }
+
+ private:
+  size_t size_;
+  char* base_ = nullptr;
+};
+
+// The packet queries prefetch the memory after the application's packet, where an array of packets
+// keeps the next one (query_dispatch.cpp): a packet that the process's memory ends with answers
+// as any other.
+TEST_P(PacketLanes, PacketsEndingWhereMemoryEndsAnswerAsSingleRays) {
+  const GuardedPage page;
+  ASSERT_TRUE(page.usable());
+  expectLanesAnswerAsSingleRays<4>(rtcIntersect4, page.packetAtEnd<RTCRayHit4>());
+  expectLanesAnswerAsSingleRays<8>(rtcIntersect8, page.packetAtEnd<RTCRayHit8>());
+  expectLanesAnswerAsSingleRays<16>(rtcIntersect16, page.packetAtEnd<RTCRayHit16>());
+  expectLanesOccludeAsSingleRays<4>(rtcOccluded4, page.packetAtEnd<RTCRay4>());
+  expectLanesOccludeAsSingleRays<8>(rtcOccluded8, page.packetAtEnd<RTCRay8>());
+  expectLanesOccludeAsSingleRays<16>(rtcOccluded16, page.packetAtEnd<RTCRay16>());
 }
 
 TEST_P(PacketLanes, CoherentStreamsAnswerAsSingleRays) {
