@@ -105,7 +105,7 @@ Options parseOptions(int argc, char** argv) {
 // One row of the table: a ray set traced through one query API, with the intersect context's
 // coherence hint an application would give it (Embree's documentation: primary visibility and hard
 // shadows are coherent workloads; rtcInitIntersectContext's default says incoherent).
-enum class Query { Intersect1, Intersect8, Intersect1M, Occluded1, Occluded8, Occluded1M };
+enum class Query { Intersect1, Intersect8, Intersect8OneSlot, Intersect1M, Occluded1, Occluded8, Occluded1M };
 bool isOcclusion(Query q) { return q == Query::Occluded1 || q == Query::Occluded8 || q == Query::Occluded1M; }
 struct Workload {
   const char* name;
@@ -161,6 +161,7 @@ double tracePass(const LibraryRun& run, const Workload& w, Result* r) {
   switch (w.query) {
     case Query::Intersect1: return traceIntersectMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
     case Query::Intersect8: return traceIntersect8Mrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
+    case Query::Intersect8OneSlot: return traceIntersect8OneSlotMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
     case Query::Occluded1: return traceOccludedMrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
     case Query::Occluded8: return traceOccluded8Mrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
     case Query::Intersect1M: return traceIntersect1MMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
@@ -342,6 +343,7 @@ int main(int argc, char** argv) {
         {"primary perspective, no coherence hint", Query::Intersect1, &perspective},
         {"primary perspective, packets of 8", Query::Intersect8, &perspective, kCoherent},
         {"primary perspective, packets of 8, no coherence hint", Query::Intersect8, &perspective},
+        {"primary perspective, packets of 8 from one slot", Query::Intersect8OneSlot, &perspective, kCoherent},
         {"primary perspective, streams of 64 (rtcIntersect1M)", Query::Intersect1M, &perspective, kCoherent},
         {"primary orthographic", Query::Intersect1, &orthographic, kCoherent},
         {"primary orthographic, packets of 8", Query::Intersect8, &orthographic, kCoherent},

@@ -165,6 +165,21 @@ double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::ve
   return rate;
 }
 
+double traceIntersect8OneSlotMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                                   std::vector<RTCRayHit>* answers, RTCIntersectContextFlags contextFlags) {
+  std::vector<Packet8> first;
+  const double rate = timedRuns(
+      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
+      [&](RTCIntersectContext* context, Packet8* p) {
+        Packet8 slot = *p;  // the thread's one packet, filled for every packet and read back after it
+        lib.rtcIntersect8(slot.valid, scene, context, &slot.rayhit);
+        *p = slot;
+      },
+      rays.size(), contextFlags);
+  if (answers) unpack8(first, rays.size(), *answers);
+  return rate;
+}
+
 double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                            std::vector<RTCRay>* answers,
                            RTCIntersectContextFlags contextFlags) {

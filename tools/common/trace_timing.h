@@ -35,6 +35,13 @@ double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vect
 double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                             std::vector<RTCRayHit>* answers = nullptr,
                             RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
+// rtcIntersect8 as an application that fills one packet on its stack for every eight rays does:
+// each packet is copied into one slot, traced there and copied back. The packet's memory is then
+// in cache before the call, and the memory after it too (obvh prefetches the memory after a
+// packet, where an array of packets keeps the next one).
+double traceIntersect8OneSlotMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
+                                   std::vector<RTCRayHit>* answers = nullptr,
+                                   RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                            std::vector<RTCRay>* answers = nullptr,
                            RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
