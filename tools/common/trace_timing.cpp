@@ -94,6 +94,18 @@ void unpack8(const std::vector<Packet8>& packets, size_t count, std::vector<Out>
   }
 }
 
+// timedRuns over the rays in packets of eight (packets8); query(context, packet) traces one.
+template <typename Out, typename Query>
+double packetRuns(const std::vector<RTCRay>& rays, int runs, std::vector<Out>* answers,
+                  RTCIntersectContextFlags contextFlags, Query query) {
+  std::vector<Packet8> first;
+  const double rate =
+      timedRuns([&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr, query,
+                rays.size(), contextFlags);
+  if (answers) unpack8(first, rays.size(), *answers);
+  return rate;
+}
+
 // kStreamRays consecutive rays (fewer in the last stream) for rtcIntersect1M / rtcOccluded1M.
 template <typename RayType>
 struct Stream {
@@ -156,40 +168,26 @@ double traceOccludedMrays(const RtcLibrary& lib, RTCScene scene, const std::vect
 double traceIntersect8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                             std::vector<RTCRayHit>* answers,
                             RTCIntersectContextFlags contextFlags) {
-  std::vector<Packet8> first;
-  const double rate = timedRuns(
-      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
-      [&](RTCIntersectContext* context, Packet8* p) { lib.rtcIntersect8(p->valid, scene, context, &p->rayhit); },
-      rays.size(), contextFlags);
-  if (answers) unpack8(first, rays.size(), *answers);
-  return rate;
+  return packetRuns(rays, runs, answers, contextFlags, [&](RTCIntersectContext* context, Packet8* p) {
+    lib.rtcIntersect8(p->valid, scene, context, &p->rayhit);
+  });
 }
 
 double traceIntersect8OneSlotMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                                    std::vector<RTCRayHit>* answers, RTCIntersectContextFlags contextFlags) {
-  std::vector<Packet8> first;
-  const double rate = timedRuns(
-      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
-      [&](RTCIntersectContext* context, Packet8* p) {
-        Packet8 slot = *p;  // the thread's one packet, filled for every packet and read back after it
-        lib.rtcIntersect8(slot.valid, scene, context, &slot.rayhit);
-        *p = slot;
-      },
-      rays.size(), contextFlags);
-  if (answers) unpack8(first, rays.size(), *answers);
-  return rate;
+  return packetRuns(rays, runs, answers, contextFlags, [&](RTCIntersectContext* context, Packet8* p) {
+    Packet8 slot = *p;  // the thread's one packet, filled for every packet and read back after it
+    lib.rtcIntersect8(slot.valid, scene, context, &slot.rayhit);
+    *p = slot;
+  });
 }
 
 double traceOccluded8Mrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
                            std::vector<RTCRay>* answers,
                            RTCIntersectContextFlags contextFlags) {
-  std::vector<Packet8> first;
-  const double rate = timedRuns(
-      [&](std::vector<Packet8>& items) { packets8(rays, items); }, runs, answers ? &first : nullptr,
-      [&](RTCIntersectContext* context, Packet8* p) { lib.rtcOccluded8(p->valid, scene, context, &p->rayhit.ray); },
-      rays.size(), contextFlags);
-  if (answers) unpack8(first, rays.size(), *answers);
-  return rate;
+  return packetRuns(rays, runs, answers, contextFlags, [&](RTCIntersectContext* context, Packet8* p) {
+    lib.rtcOccluded8(p->valid, scene, context, &p->rayhit.ray);
+  });
 }
 
 double traceIntersect1MMrays(const RtcLibrary& lib, RTCScene scene, const std::vector<RTCRay>& rays, int runs,
