@@ -176,7 +176,7 @@ struct BinMapping {
 
 class BinnedSahBuilder {
  public:
-  BinnedSahBuilder(std::vector<PrimRef>& refs, const BuildOptions& options, BinaryBvh& out)
+  BinnedSahBuilder(PrimRefs& refs, const BuildOptions& options, BinaryBvh& out)
       : refs_(refs), options_(options), out_(out) {
     options_.binCount = std::clamp(options_.binCount, 2, kMaxBins);
     options_.maxLeafSize = std::max(options_.maxLeafSize, 1);
@@ -454,7 +454,7 @@ class BinnedSahBuilder {
   }
 
   int blockShift_ = -1;
-  std::vector<PrimRef>& refs_;
+  PrimRefs& refs_;
   BuildOptions options_;
   BinaryBvh& out_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
@@ -462,7 +462,7 @@ class BinnedSahBuilder {
 
 }  // namespace
 
-BinaryBvh buildBinnedSah(std::vector<PrimRef>& refs, const BuildOptions& options) {
+BinaryBvh buildBinnedSah(PrimRefs& refs, const BuildOptions& options) {
   BinaryBvh bvh;
   BinnedSahBuilder(refs, options, bvh).run();
   return bvh;

@@ -10,6 +10,6 @@
 namespace obvh {
 
 // Reorders refs; the returned tree's primIndices hold PrimRef::index values in leaf order.
-BinaryBvh buildBinnedSah(std::vector<PrimRef>& refs, const BuildOptions& options);
+BinaryBvh buildBinnedSah(PrimRefs& refs, const BuildOptions& options);
 
 }  // namespace obvh

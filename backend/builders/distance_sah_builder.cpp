@@ -45,7 +45,7 @@ struct NodeInfo {
 
 class DistanceSahBuilder {
  public:
-  DistanceSahBuilder(std::vector<PrimRef>& refs, const BuildOptions& options, BinaryBvh& out)
+  DistanceSahBuilder(PrimRefs& refs, const BuildOptions& options, BinaryBvh& out)
       : refs_(refs), options_(options), alpha_(std::clamp(double(options.distanceAlpha), 0.0, 1.0)), out_(out) {}
 
   void run() {
@@ -156,7 +156,7 @@ class DistanceSahBuilder {
     return info.bounds;
   }
 
-  std::vector<PrimRef>& refs_;
+  PrimRefs& refs_;
   BuildOptions options_;
   double alpha_;
   BinaryBvh& out_;
@@ -165,7 +165,7 @@ class DistanceSahBuilder {
 
 }  // namespace
 
-BinaryBvh buildDistanceSah(std::vector<PrimRef>& refs, const BuildOptions& options) {
+BinaryBvh buildDistanceSah(PrimRefs& refs, const BuildOptions& options) {
   BinaryBvh out;
   if (refs.empty()) return out;
   DistanceSahBuilder(refs, options, out).run();

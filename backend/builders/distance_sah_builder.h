@@ -21,6 +21,6 @@ namespace obvh {
 
 // Reorders refs; the tree's primIndices hold PrimRef::index values in leaf order. Deterministic
 // for any thread count. Uses options.distanceAlpha and options.distanceSource.
-BinaryBvh buildDistanceSah(std::vector<PrimRef>& refs, const BuildOptions& options);
+BinaryBvh buildDistanceSah(PrimRefs& refs, const BuildOptions& options);
 
 }  // namespace obvh

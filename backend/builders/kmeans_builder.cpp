@@ -42,7 +42,7 @@ struct CentroidBounds {
 
 class KMeansBuilder {
  public:
-  KMeansBuilder(std::vector<PrimRef>& refs, const BuildOptions& options, BinaryBvh& out)
+  KMeansBuilder(PrimRefs& refs, const BuildOptions& options, BinaryBvh& out)
       : refs_(refs),
         maxLeaf_(size_t(std::max(options.maxLeafSize, 1))),
         arity_(std::clamp(options.kmeansArity, 2, kMaxArity)),
@@ -192,18 +192,18 @@ class KMeansBuilder {
     return {{begin, middle, 0.f}, {middle, end, 1.f}};
   }
 
-  std::vector<PrimRef>& refs_;
+  PrimRefs& refs_;
   size_t maxLeaf_;
   int arity_;
   BinaryBvh& out_;
   std::vector<uint8_t> cluster_;  // per position in refs_: the cluster of the node being split
-  std::vector<PrimRef> scratch_;
+  PrimRefs scratch_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
 };
 
 }  // namespace
 
-BinaryBvh buildKMeans(std::vector<PrimRef>& refs, const BuildOptions& options) {
+BinaryBvh buildKMeans(PrimRefs& refs, const BuildOptions& options) {
   BinaryBvh out;
   if (refs.empty()) return out;
   KMeansBuilder(refs, options, out).run();

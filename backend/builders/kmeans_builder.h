@@ -14,6 +14,6 @@ namespace obvh {
 // Reorders refs; the tree's primIndices hold PrimRef::index values in leaf order. The k clusters
 // of a node hang below it as a small binary tree, so the wide collapse (which opens the largest
 // child first) turns them back into one k-wide node. Deterministic for any thread count.
-BinaryBvh buildKMeans(std::vector<PrimRef>& refs, const BuildOptions& options);
+BinaryBvh buildKMeans(PrimRefs& refs, const BuildOptions& options);
 
 }  // namespace obvh

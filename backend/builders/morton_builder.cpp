@@ -34,7 +34,7 @@ struct Keyed {
 
 class MortonBuilder {
  public:
-  MortonBuilder(const std::vector<Keyed>& keys, const std::vector<PrimRef>& refs, const BuildOptions& options, BinaryBvh& out)
+  MortonBuilder(const std::vector<Keyed>& keys, const PrimRefs& refs, const BuildOptions& options, BinaryBvh& out)
       : keys_(keys), refs_(refs), maxLeaf_(size_t(std::max(options.maxLeafSize, 1))), out_(out) {}
 
   void run() {
@@ -88,7 +88,7 @@ class MortonBuilder {
   }
 
   const std::vector<Keyed>& keys_;
-  const std::vector<PrimRef>& refs_;
+  const PrimRefs& refs_;
   size_t maxLeaf_;
   BinaryBvh& out_;
   BinaryNodeStorage* nodes_ = nullptr;  // the tree's nodes while run() makes them
@@ -96,7 +96,7 @@ class MortonBuilder {
 
 }  // namespace
 
-BinaryBvh buildMorton(std::vector<PrimRef>& refs, const BuildOptions& options) {
+BinaryBvh buildMorton(PrimRefs& refs, const BuildOptions& options) {
   BinaryBvh out;
   const size_t n = refs.size();
   if (n == 0) return out;
@@ -129,7 +129,7 @@ BinaryBvh buildMorton(std::vector<PrimRef>& refs, const BuildOptions& options) {
   MortonBuilder(keys, refs, options, out).run();
   reserveWithHugePages(out.primIndices, n);
   out.primIndices.resize(n);
-  std::vector<PrimRef> sorted;
+  PrimRefs sorted;
   reserveWithHugePages(sorted, n);
   sorted.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const tbb::blocked_range<size_t>& r) {

@@ -14,6 +14,6 @@ namespace obvh {
 
 // Reorders refs; the tree's primIndices hold PrimRef::index values in leaf order. Deterministic:
 // ties in the Morton code are ordered by the primitive index.
-BinaryBvh buildMorton(std::vector<PrimRef>& refs, const BuildOptions& options);
+BinaryBvh buildMorton(PrimRefs& refs, const BuildOptions& options);
 
 }  // namespace obvh

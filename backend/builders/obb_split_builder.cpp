@@ -27,7 +27,7 @@ struct TempNode {
 
 class ObbFrameBuilder {
  public:
-  ObbFrameBuilder(std::vector<PrimRef>& refs, const StoredTriangle* triangles, const BuildOptions& options)
+  ObbFrameBuilder(PrimRefs& refs, const StoredTriangle* triangles, const BuildOptions& options)
       : refs_(refs), triangles_(triangles), options_(options) {}
 
   std::unique_ptr<TempNode> build(size_t begin, size_t end, int depth) {
@@ -156,7 +156,7 @@ class ObbFrameBuilder {
     if (bestAxis < 0) return medianSplit(begin, end, frame, centroids);
     // Partition by the same bin arithmetic as the binning.
     size_t left = begin;
-    std::vector<PrimRef> right;
+    PrimRefs right;
     right.reserve(count);
     for (size_t i = 0; i < count; ++i) {
       const PrimRef r = refs_[begin + i];
@@ -177,7 +177,7 @@ class ObbFrameBuilder {
     return middle;
   }
 
-  std::vector<PrimRef>& refs_;
+  PrimRefs& refs_;
   const StoredTriangle* triangles_;
   const BuildOptions& options_;
 };
@@ -199,7 +199,7 @@ void flatten(const TempNode& node, uint32_t index, BinaryBvh& out) {
 
 }  // namespace
 
-BinaryBvh buildInObbFrames(std::vector<PrimRef>& refs, const StoredTriangle* triangles, const BuildOptions& options) {
+BinaryBvh buildInObbFrames(PrimRefs& refs, const StoredTriangle* triangles, const BuildOptions& options) {
   BinaryBvh bvh;
   if (refs.empty()) return bvh;
   ObbFrameBuilder builder(refs, triangles, options);

@@ -14,6 +14,6 @@ namespace obvh {
 
 // refs index `triangles`; options.obbSplit (not AabbSah), obbBins, maxLeafSize and the costs apply.
 // The returned tree's node bounds are world AABBs; primIndices hold PrimRef::index values.
-BinaryBvh buildInObbFrames(std::vector<PrimRef>& refs, const StoredTriangle* triangles, const BuildOptions& options);
+BinaryBvh buildInObbFrames(PrimRefs& refs, const StoredTriangle* triangles, const BuildOptions& options);
 
 }  // namespace obvh

@@ -10,7 +10,7 @@
 namespace obvh {
 
 // Reorders refs[begin, end) and returns the first index of the upper half.
-inline size_t splitAtObjectMedian(std::vector<PrimRef>& refs, size_t begin, size_t end, const Box3f& centroidBounds) {
+inline size_t splitAtObjectMedian(PrimRefs& refs, size_t begin, size_t end, const Box3f& centroidBounds) {
   const int axis = centroidBounds.largestAxis();
   const size_t middle = begin + (end - begin) / 2;
   std::nth_element(refs.begin() + long(begin), refs.begin() + long(middle), refs.begin() + long(end),

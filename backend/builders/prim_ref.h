@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "math/vec3.h"
+#include "memory/unwritten_allocator.h"
 
 namespace obvh {
 
@@ -11,5 +12,8 @@ struct PrimRef {
   Box3f bounds;
   uint32_t index = 0;
 };
+
+// A build's table of refs; resize leaves the new refs unwritten.
+using PrimRefs = UnwrittenVector<PrimRef>;
 
 }  // namespace obvh

@@ -319,7 +319,7 @@ class SpatialSplitBuilder {
     // [left | straddling | right]
     PrimRef* rightBegin = std::partition(refs, refs + n, [&](const PrimRef& r) { return sideOf(r, a, split.plane) != Side::Right; });
     PrimRef* bothBegin = std::partition(refs, rightBegin, [&](const PrimRef& r) { return sideOf(r, a, split.plane) == Side::Left; });
-    std::vector<PrimRef> rightPieces;
+    PrimRefs rightPieces;
     rightPieces.reserve(straddling);
     PrimRef* leftEnd = bothBegin;
     for (PrimRef* r = bothBegin; r != rightBegin; ++r) {
@@ -408,14 +408,14 @@ void flatten(const TempNode& root, const PrimRef* refs, BinaryBvh& out) {
 
 }  // namespace
 
-BinaryBvh buildSpatialSah(const std::vector<PrimRef>& refs, const StoredTriangle* triangles, const BuildOptions& options,
+BinaryBvh buildSpatialSah(const PrimRefs& refs, const StoredTriangle* triangles, const BuildOptions& options,
                           const SpatialSplitSettings& settings) {
   BinaryBvh out;
   if (refs.empty()) return out;
   Box3f bounds;
   for (const PrimRef& r : refs) bounds.extend(r.bounds);
   const size_t budget = size_t(double(settings.referenceBudget) * double(refs.size()));
-  std::vector<PrimRef> slots;
+  PrimRefs slots;
   reserveWithHugePages(slots, refs.size() + budget);
   slots.assign(refs.begin(), refs.end());
   slots.resize(refs.size() + budget);

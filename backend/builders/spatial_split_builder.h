@@ -25,7 +25,7 @@ struct SpatialSplitSettings {
 // refs: one per triangle, index = position in `triangles`. The tree's primIndices may name a
 // triangle more than once (in leaves on either side of a spatial split). Deterministic: the
 // reference budget is handed down the tree in proportion to the children's sizes, never raced for.
-BinaryBvh buildSpatialSah(const std::vector<PrimRef>& refs, const StoredTriangle* triangles, const BuildOptions& options,
+BinaryBvh buildSpatialSah(const PrimRefs& refs, const StoredTriangle* triangles, const BuildOptions& options,
                           const SpatialSplitSettings& settings = {});
 
 }  // namespace obvh

@@ -9,7 +9,7 @@
 
 #include "bvh/binary_bvh.h"
 #include "bvh/triangle_block.h"
-#include "memory/default_init_allocator.h"
+#include "memory/unwritten_allocator.h"
 
 namespace obvh {
 
@@ -40,8 +40,8 @@ using Bvh8Node = WideNode<8>;
 template <int N>
 struct WideBvh {
   // Sized before they are written, by the collapse's parallel writers (no zero fill first).
-  DefaultInitVector<WideNode<N>> nodes;  // nodes[0] is the root
-  DefaultInitVector<TriangleBlock4> blocks;
+  UnwrittenVector<WideNode<N>> nodes;  // nodes[0] is the root
+  UnwrittenVector<TriangleBlock4> blocks;
   uint32_t rootChild = WideNode<N>::kEmptyChild;  // a leaf root is stored here instead of as a node
   bool empty() const { return rootChild == WideNode<N>::kEmptyChild; }
   // The union of the root node's child boxes; an empty box when the root is a leaf (or nothing).

@@ -281,8 +281,8 @@ class SahCollapser {
   WideWriter<N>& writer_;
   const std::vector<Bvh2Node>& nodes_;
   uint32_t maxLeafPrims_;
-  DefaultInitVector<NodePlan> plans_;
-  DefaultInitVector<SubtreeSize> sizes_;
+  UnwrittenVector<NodePlan> plans_;
+  UnwrittenVector<SubtreeSize> sizes_;
 };
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "math/vec3.h"
+#include "memory/unwritten_allocator.h"
 
 namespace obvh {
 
@@ -55,5 +56,8 @@ struct StoredTriangle {
   uint32_t primID = 0;
   TriangleKind kind = TriangleKind::Triangle;
 };
+
+// A table of triangles; resize leaves the new triangles unwritten.
+using StoredTriangles = UnwrittenVector<StoredTriangle>;
 
 }  // namespace obvh

@@ -113,7 +113,7 @@ bool loadGrid(const MeshDesc& mesh, size_t prim, uint32_t firstCell, StoredTrian
 // meshes can be read in parallel; a grid's slots (two per cell) and cells start at the running
 // totals of the grids before it.
 struct SlotTable {
-  std::vector<StoredTriangle> triangles;
+  StoredTriangles triangles;
   std::vector<unsigned char> valid;  // per slot
   std::vector<GridCell> gridCells;
   std::vector<SubdivCell> subdivCells;

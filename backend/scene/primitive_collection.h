@@ -20,8 +20,8 @@ inline bool isValidVertex(const float xyz[3]) {
 }
 
 struct CollectedPrimitives {
-  std::vector<StoredTriangle> triangles;  // refs[i].index indexes this table
-  std::vector<PrimRef> refs;
+  StoredTriangles triangles;  // refs[i].index indexes this table
+  PrimRefs refs;
   std::vector<GridCell> gridCells;        // the cells of every grid, indexed by their triangles' primID
   std::vector<SubdivCell> subdivCells;    // the tessellation cells of subdivision surfaces, alike
 };

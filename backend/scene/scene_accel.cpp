@@ -98,7 +98,7 @@ void traverseSphere(const WideBvh<N>& bvh, const Vec3f& p, Radius&& radius, Bloc
 void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOptions& options) {
   layout_ = options.layout;
   // The hybrid may settle on the wide AABB layout and build again: from the refs as collected.
-  std::vector<PrimRef> collectedRefs;
+  PrimRefs collectedRefs;
   if (layout_ == AccelLayout::Hybrid) collectedRefs = collected.refs;
   BuildOptions triangleOptions = options;
   const bool wide = layout_ == AccelLayout::Bvh4 || layout_ == AccelLayout::Bvh8;
@@ -138,7 +138,7 @@ void SceneAccel::buildTriangleTree(CollectedPrimitives& collected, const BuildOp
     rebuildTreeletsInOwnFrames(triangleBvh_, collected.triangles.data(), triangleOptions);
   // The wide layouts that keep no binary tree (BuildOptions::keepBinaryTree) keep no copy of the
   // triangles either: their collapse reads them where they were collected, through primIndices.
-  triangles_ = std::vector<StoredTriangle>{};
+  triangles_ = StoredTriangles{};
   if (!wide || options.keepBinaryTree) {
     reserveWithHugePages(triangles_, triangleBvh_.primIndices.size());
     triangles_.resize(triangleBvh_.primIndices.size());
@@ -181,7 +181,7 @@ void SceneAccel::build(const SceneDesc& desc, const BuildOptions& options) {
   buildTriangleTree(collected, options);
 
   std::vector<ObjectRef> objects;
-  std::vector<PrimRef> objectRefs;
+  PrimRefs objectRefs;
   instances_.clear();
   for (const InstanceDesc& inst : desc.instances) {
     if (!inst.child) continue;
@@ -335,7 +335,7 @@ bool SceneAccel::orientedBoxesPayOff() const {
 namespace {
 
 // Post-order: every node's box becomes the union of its triangles' or children's boxes.
-Box3f refitNode(BinaryBvh& bvh, uint32_t index, const std::vector<StoredTriangle>& triangles) {
+Box3f refitNode(BinaryBvh& bvh, uint32_t index, const StoredTriangles& triangles) {
   const Bvh2Node node = bvh.nodes[index];
   Box3f box;
   if (node.isLeaf()) {

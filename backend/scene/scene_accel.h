@@ -169,7 +169,7 @@ class SceneAccel {
   TriangleOrientedWideView<8> triangleOrientedWideView8_;
   BuildOptions options_;
   BuildOptions requested_;  // as passed to build(), for refit's same-options check
-  std::vector<StoredTriangle> triangles_;
+  StoredTriangles triangles_;
   // Of the triangle tree, still known once the binary tree is released (releaseBinaryTree).
   size_t triangleCount_ = 0, triangleLeafCount_ = 0;
   Box3f triangleBounds_;

@@ -36,7 +36,7 @@ bool contains(const Box3f& outer, const Box3f& inner) {
 }
 
 // Every primitive in exactly one leaf of at most maxLeafSize, every box inside its parent's.
-void expectWellFormed(const BinaryBvh& bvh, const std::vector<PrimRef>& input, int maxLeafSize) {
+void expectWellFormed(const BinaryBvh& bvh, const PrimRefs& input, int maxLeafSize) {
   ASSERT_FALSE(bvh.empty());
   std::vector<int> seen(input.size(), 0);
   std::vector<Box3f> boxOf(input.size());
@@ -55,15 +55,15 @@ void expectWellFormed(const BinaryBvh& bvh, const std::vector<PrimRef>& input, i
   }
 }
 
-std::vector<PrimRef> soupRefs(size_t count, uint32_t seed) {
+PrimRefs soupRefs(size_t count, uint32_t seed) {
   const test::MeshData soup = test::randomTriangleSoup(count, seed);  // collecting copies the triangles
   return collectPrimitives({tools::backendMeshDesc(soup)}).refs;
 }
 
 TEST(KMeansBuilder, TreeIsWellFormed) {
   for (int arity : {2, 4, 8}) {
-    std::vector<PrimRef> refs = soupRefs(30000, 7);
-    const std::vector<PrimRef> input = refs;
+    PrimRefs refs = soupRefs(30000, 7);
+    const PrimRefs input = refs;
     BuildOptions options;
     options.kmeansArity = arity;
     expectWellFormed(buildKMeans(refs, options), input, options.maxLeafSize);
@@ -75,7 +75,7 @@ TEST(KMeansBuilder, TreeIsWellFormed) {
 TEST(KMeansBuilder, FindsTheClustersOfTheScene) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
-  std::vector<PrimRef> refs;
+  PrimRefs refs;
   std::vector<int> blobOf;
   for (int blob = 0; blob < 8; ++blob) {
     // Uneven sizes, so equal-count splitting would not find the blobs by accident.
@@ -120,21 +120,21 @@ TEST(KMeansBuilder, FindsTheClustersOfTheScene) {
 
 // Coincident centroids cannot be clustered: the builder still terminates with small leaves.
 TEST(KMeansBuilder, IdenticalCentroidsStillSplit) {
-  std::vector<PrimRef> refs(1000);
+  PrimRefs refs(1000, PrimRef{});
   for (uint32_t i = 0; i < refs.size(); ++i) {
     refs[i].bounds.extend(Vec3f{0.f, 0.f, 0.f});
     refs[i].bounds.extend(Vec3f{1.f, 1.f, 1.f});
     refs[i].index = i;
   }
-  const std::vector<PrimRef> input = refs;
+  const PrimRefs input = refs;
   const BuildOptions options;
   expectWellFormed(buildKMeans(refs, options), input, options.maxLeafSize);
 }
 
 TEST(DistanceSahBuilder, TreeIsWellFormed) {
   for (float alpha : {0.f, 0.5f, 1.f}) {
-    std::vector<PrimRef> refs = soupRefs(30000, 9);
-    const std::vector<PrimRef> input = refs;
+    PrimRefs refs = soupRefs(30000, 9);
+    const PrimRefs input = refs;
     BuildOptions options;
     options.distanceAlpha = alpha;
     options.distanceSource = {0.5f, 0.5f, 0.5f};
@@ -180,7 +180,7 @@ TEST(DistanceSahBuilder, RaysFromTheSourceTestFewerBoxes) {
   std::printf("[distance-sah] box tests per ray from the source: alpha 1 %.1f, alpha 0.5 %.1f\n", plain, mixed);
   EXPECT_LT(mixed, plain * 0.9);
 
-  std::vector<PrimRef> a = collectPrimitives(desc.meshes).refs, b = a;
+  PrimRefs a = collectPrimitives(desc.meshes).refs, b = a;
   BuildOptions options;
   options.distanceSource = source;
   options.distanceAlpha = 1.f;

@@ -9,10 +9,10 @@
 namespace obvh {
 namespace {
 
-std::vector<PrimRef> randomBoxes(size_t n, uint32_t seed, float spread) {
+PrimRefs randomBoxes(size_t n, uint32_t seed, float spread) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.f, 1.f);
-  std::vector<PrimRef> refs(n);
+  PrimRefs refs(n, PrimRef{});
   for (size_t i = 0; i < n; ++i) {
     const Vec3f c{unit(rng) * spread, unit(rng) * spread, unit(rng) * spread};
     const Vec3f h{unit(rng) * 0.01f, unit(rng) * 0.01f, unit(rng) * 0.01f};
@@ -30,7 +30,7 @@ bool contains(const Box3f& outer, const Box3f& inner) {
 
 // Walks the tree: every primitive appears in exactly one leaf, children lie inside parents, leaves
 // respect the size limit. Returns the depth.
-int checkTree(const BinaryBvh& bvh, const std::vector<PrimRef>& original, int maxLeafSize) {
+int checkTree(const BinaryBvh& bvh, const PrimRefs& original, int maxLeafSize) {
   std::vector<int> seen(original.size(), 0);
   int maxDepth = 0;
   std::vector<std::pair<uint32_t, int>> stack = {{0u, 1}};
@@ -58,14 +58,14 @@ int checkTree(const BinaryBvh& bvh, const std::vector<PrimRef>& original, int ma
 }
 
 TEST(BinnedSahBuilder, EmptyInputGivesEmptyTree) {
-  std::vector<PrimRef> refs;
+  PrimRefs refs;
   EXPECT_TRUE(buildBinnedSah(refs, BuildOptions{}).empty());
 }
 
 TEST(BinnedSahBuilder, RandomBoxesFormAValidTree) {
   for (size_t n : {1u, 2u, 7u, 1000u, 200000u}) {
-    std::vector<PrimRef> refs = randomBoxes(n, uint32_t(n), 10.f);
-    const std::vector<PrimRef> original = refs;
+    PrimRefs refs = randomBoxes(n, uint32_t(n), 10.f);
+    const PrimRefs original = refs;
     BuildOptions options;
     const BinaryBvh bvh = buildBinnedSah(refs, options);
     const int depth = checkTree(bvh, original, options.maxLeafSize);
@@ -74,26 +74,26 @@ TEST(BinnedSahBuilder, RandomBoxesFormAValidTree) {
 }
 
 TEST(BinnedSahBuilder, IdenticalPrimitivesStillSplitIntoSmallLeaves) {
-  std::vector<PrimRef> refs(5000);
+  PrimRefs refs(5000, PrimRef{});
   for (size_t i = 0; i < refs.size(); ++i) {
     refs[i].bounds.extend({1.f, 2.f, 3.f});
     refs[i].bounds.extend({1.5f, 2.5f, 3.5f});
     refs[i].index = uint32_t(i);
   }
-  const std::vector<PrimRef> original = refs;
+  const PrimRefs original = refs;
   const BinaryBvh bvh = buildBinnedSah(refs, BuildOptions{});
   EXPECT_LE(checkTree(bvh, original, 4), 20);
 }
 
 TEST(BinnedSahBuilder, ExponentiallySpreadPrimitivesKeepBoundedDepth) {
-  std::vector<PrimRef> refs(100000);
+  PrimRefs refs(100000, PrimRef{});
   for (size_t i = 0; i < refs.size(); ++i) {
     const float x = std::ldexp(1.f, int(i % 100) - 50);
     refs[i].bounds.extend({x, 0.f, 0.f});
     refs[i].bounds.extend({x * 1.0001f, 1e-3f, 1e-3f});
     refs[i].index = uint32_t(i);
   }
-  const std::vector<PrimRef> original = refs;
+  const PrimRefs original = refs;
   const BinaryBvh bvh = buildBinnedSah(refs, BuildOptions{});
   EXPECT_LE(checkTree(bvh, original, 4), 48 + 20);
 }
@@ -101,7 +101,7 @@ TEST(BinnedSahBuilder, ExponentiallySpreadPrimitivesKeepBoundedDepth) {
 TEST(BinnedSahBuilder, SahCostIsFarBelowTestingEveryPrimitive) {
   // SAH cost (expected node visits plus primitive tests per ray, relative to the root's area) of a
   // tree over small scattered boxes must be a small fraction of the cost of one flat leaf (n tests).
-  std::vector<PrimRef> refs = randomBoxes(4096, 5, 10.f);
+  PrimRefs refs = randomBoxes(4096, 5, 10.f);
   const BinaryBvh bvh = buildBinnedSah(refs, BuildOptions{});
   double cost = 0.0;
   const double rootArea = bvh.nodes[0].bounds.halfArea();

@@ -52,11 +52,11 @@ TEST(BuildDeterminism, BinnedSahTreeIsTheSameOnOneAndTwoThreads) {
   const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
   const BuildOptions options;
   const BinaryBvh one = withThreads(1, [&] {
-    std::vector<PrimRef> refs = collected.refs;
+    PrimRefs refs = collected.refs;
     return buildBinnedSah(refs, options);
   });
   const BinaryBvh two = withThreads(2, [&] {
-    std::vector<PrimRef> refs = collected.refs;
+    PrimRefs refs = collected.refs;
     return buildBinnedSah(refs, options);
   });
   ASSERT_EQ(one.nodes.size(), two.nodes.size());
@@ -71,7 +71,7 @@ TEST(BuildDeterminism, MortonTreeIsTheSameOnOneAndTwoThreads) {
   options.maxLeafSize = 4;
   const auto build = [&](int threads) {
     return withThreads(threads, [&] {
-      std::vector<PrimRef> refs = collected.refs;
+      PrimRefs refs = collected.refs;
       return buildMorton(refs, options);
     });
   };
@@ -103,7 +103,7 @@ TEST(BuildDeterminism, KMeansAndDistanceTreesAreTheSameOnOneAndTwoThreads) {
   for (auto builder : {buildKMeans, buildDistanceSah}) {
     const auto build = [&](int threads) {
       return withThreads(threads, [&] {
-        std::vector<PrimRef> refs = collected.refs;
+        PrimRefs refs = collected.refs;
         return builder(refs, options);
       });
     };
@@ -118,11 +118,11 @@ TEST(BuildDeterminism, ObbFrameTreeIsTheSameOnOneAndTwoThreads) {
   const CollectedPrimitives collected = collectPrimitives({tools::backendMeshDesc(soup)});
   const BuildOptions options;
   const BinaryBvh one = withThreads(1, [&] {
-    std::vector<PrimRef> refs = collected.refs;
+    PrimRefs refs = collected.refs;
     return buildInObbFrames(refs, collected.triangles.data(), options);
   });
   const BinaryBvh two = withThreads(2, [&] {
-    std::vector<PrimRef> refs = collected.refs;
+    PrimRefs refs = collected.refs;
     return buildInObbFrames(refs, collected.triangles.data(), options);
   });
   ASSERT_EQ(one.nodes.size(), two.nodes.size());
@@ -154,7 +154,7 @@ void expectSameWideTreeOnOneAndTwoThreads() {
   BuildOptions options;
   options.maxLeafSize = 16;
   const BinaryBvh binary = buildBinnedSah(collected.refs, options);
-  std::vector<StoredTriangle> inLeafOrder;
+  StoredTriangles inLeafOrder;
   for (uint32_t prim : binary.primIndices) inLeafOrder.push_back(collected.triangles[prim]);
   CollapseOptions collapse;
   collapse.method = CollapseMethod::SahOptimal;

@@ -20,7 +20,7 @@ namespace obvh {
 namespace {
 
 struct PaletteTree {
-  std::vector<StoredTriangle> inLeafOrder;
+  StoredTriangles inLeafOrder;
   OrientedBvh binary;
   OrientedWideBvh<8> wide;
 };

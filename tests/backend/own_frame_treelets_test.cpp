@@ -27,7 +27,7 @@ struct BuiltTree {
 BuiltTree buildAabbSah(const tools::MeshData& mesh, const BuildOptions& options) {
   BuiltTree t;
   t.collected = collectPrimitives({tools::backendMeshDesc(mesh)});
-  std::vector<PrimRef> refs = t.collected.refs;
+  PrimRefs refs = t.collected.refs;
   t.bvh = buildBinnedSah(refs, options);
   return t;
 }

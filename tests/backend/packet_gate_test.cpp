@@ -28,7 +28,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct GatedTree {
   CollectedPrimitives collected;
   WideBvh<8> wide;
-  std::vector<StoredTriangle> triangles;
+  StoredTriangles triangles;
   std::vector<uint32_t> masks{0xFFFFFFFFu};
   TriangleWideView<8> view;
   PacketGate gate;

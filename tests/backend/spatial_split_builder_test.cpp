@@ -112,15 +112,15 @@ TEST(SpatialSplitBuilder, SameTreeOnOneAndTwoThreads) {
 TEST(SpatialSplitBuilder, RaysFindTheSameHitsAsThroughTheBinnedTree) {
   const CollectedPrimitives collected = slantedScene();
   const BuildOptions options;
-  std::vector<PrimRef> refs = collected.refs;
+  PrimRefs refs = collected.refs;
   const BinaryBvh binned = buildBinnedSah(refs, options);
   const BinaryBvh spatial = buildSpatialSah(collected.refs, collected.triangles.data(), options);
   const auto leafTriangles = [&](const BinaryBvh& bvh) {
-    std::vector<StoredTriangle> out;
+    StoredTriangles out;
     for (uint32_t index : bvh.primIndices) out.push_back(collected.triangles[index]);
     return out;
   };
-  const std::vector<StoredTriangle> binnedTriangles = leafTriangles(binned), spatialTriangles = leafTriangles(spatial);
+  const StoredTriangles binnedTriangles = leafTriangles(binned), spatialTriangles = leafTriangles(spatial);
   const std::vector<uint32_t> masks(64, 0xFFFFFFFFu);
   const TriangleBvhView a{binned.nodes.data(), {binnedTriangles.data(), masks.data(), nullptr, nullptr, nullptr, false}};
   const TriangleBvhView b{spatial.nodes.data(), {spatialTriangles.data(), masks.data(), nullptr, nullptr, nullptr, false}};

@@ -30,7 +30,7 @@ struct Layouts {
   CollectedPrimitives collected;
   BinaryBvh binary;
   WideBvh<N> wide;
-  std::vector<StoredTriangle> triangles;
+  StoredTriangles triangles;
   std::vector<uint32_t> masks{0xFFFFFFFFu};
   TriangleBvhView view2;
   TriangleWideView<N> view;
