@@ -219,10 +219,7 @@ uint32_t gatherLiveLanesOneByOne(const int* valid, RTCRayN* rayN, unsigned N, un
 // Whether [first, first + count) goes in groups of eight lanes: both the gather and the write-back
 // take this one decision, since the write-back in eights reads the tfar of every ray of a group,
 // which only the gather in eights writes.
-inline bool lanesGoInEights(unsigned count) {
-  static const bool cpuHasAvx2 = simd::cpuHasAvx2();
-  return count % 8 == 0 && cpuHasAvx2;
-}
+inline bool lanesGoInEights(unsigned count) { return count % 8 == 0 && cpuGathersInEights(); }
 #endif
 
 // gate: the structure's box (QueryEntry::packetGate), whose missing lanes are not live, or null.
@@ -399,9 +396,10 @@ __attribute__((target("avx2"))) uint32_t gatherStreamLanesInAvx2(const RTCRay* c
 
 }  // namespace
 
-bool streamGathersInEights() {
+bool cpuGathersInEights() {
 #ifdef __SSE2__
-  return simd::cpuHasAvx2();
+  static const bool cpuHasAvx2 = simd::cpuHasAvx2();
+  return cpuHasAvx2;
 #else
   return false;
 #endif

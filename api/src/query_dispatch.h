@@ -167,9 +167,9 @@ class QueryDispatch final : public QueryCallbacks {
 constexpr unsigned kStreamPacketRays = 8;
 static_assert(kStreamPacketRays <= unsigned(kMaxPacketSize));
 
-// Whether traceStreamInPackets gathers whole packets of a stream with gatherStreamLanesByEights
-// (the CPU has AVX2).
-bool streamGathersInEights();
+// Whether the CPU gathers lanes eight at a time (it has AVX2): whole packets of a stream
+// (gatherStreamLanesByEights), and the lanes of rtcIntersect8/16 and rtcOccluded8/16.
+bool cpuGathersInEights();
 // The live lanes of eight application rays (segment not empty, not turned away by the gate: the
 // box around the structure's root children, packet_gate.h), as the rtcIntersect8 gather takes
 // them; their backend rays are written to rays[0..8). The gate tests the rays as lanes of one
@@ -189,7 +189,7 @@ inline const RTCRay& embreeRayOf(const RTCRay& ray) { return ray; }
 template <typename Application, typename RayAt, typename Trace>
 void QueryDispatch::traceStreamInPackets(unsigned count, RayAt&& rayAt, const PacketGate* gate, Trace&& trace) const {
   static_assert(kStreamPacketRays == 8, "gatherStreamLanesByEights takes packets of eight");
-  static const bool inEights = streamGathersInEights();
+  static const bool inEights = cpuGathersInEights();
   for (unsigned first = 0; first < count; first += kStreamPacketRays) {
     const unsigned lanes = std::min(count - first, kStreamPacketRays);
     UninitializedArray<Ray, kMaxPacketSize> rays;  // only the live lanes are written and read
