@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <utility>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -356,6 +357,23 @@ void walkWidePacket(const TriangleWideView<FN::kWidth>& bvh, PacketLanes<FN>& la
       alignas(32) float childEntry[N];
       int entered = lanes.template intersectNode<kZeroAxes, kGroups>(node, currentRays, childRays, childEntry);
       if (entered == 0) break;
+      // One or two children entered (most node visits of camera and shadow packets): the nearer is
+      // taken next and the other pushed, without the general sort's entry records. Through the
+      // sort, every packet row traced 1.5-5% slower (paired probe, bunny, motorBike and dragon).
+      const int others = entered & (entered - 1);
+      if ((others & (others - 1)) == 0) {
+        int nearChild = __builtin_ctz(unsigned(entered));
+        if (others != 0) {
+          int farChild = __builtin_ctz(unsigned(others));
+          if (kNearToFar && childEntry[farChild] < childEntry[nearChild]) std::swap(nearChild, farChild);
+          prefetchChild<FN>(bvh, node.child[farChild]);
+          stack[top++] = Entry{node.child[farChild], childRays[farChild], childEntry[farChild]};
+        }
+        current = node.child[nearChild];
+        prefetchChild<FN>(bvh, current);
+        currentRays = childRays[nearChild] & active;
+        continue;
+      }
       Entry hits[N];
       int n = 0;
       while (entered) {
