@@ -5,12 +5,12 @@
 #pragma once
 
 #include <algorithm>
-#include <utility>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <new>
 #include <type_traits>
+#include <utility>
 
 #include "memory/uninitialized_array.h"
 #include "traversal/triangle_packet_leaf.h"
