@@ -21,6 +21,15 @@ struct Float8Avx {
   OBVH_AVX2 static Float8Avx broadcast(float x) { return {_mm256_set1_ps(x)}; }
   OBVH_AVX2 static Float8Avx load(const float* p) { return {_mm256_load_ps(p)}; }  // p is 32-byte aligned
   OBVH_AVX2 void store(float* p) const { _mm256_store_ps(p, v); }
+  // See FloatScalar::halves, twice and storeHalves (p, low and high 16-byte aligned).
+  OBVH_AVX2 static Float8Avx halves(float low, float high) {
+    return {_mm256_insertf128_ps(_mm256_castps128_ps256(_mm_set1_ps(low)), _mm_set1_ps(high), 1)};
+  }
+  OBVH_AVX2 static Float8Avx twice(const float* p) { return {_mm256_broadcast_ps(reinterpret_cast<const __m128*>(p))}; }
+  OBVH_AVX2 void storeHalves(float* low, float* high) const {
+    _mm_store_ps(low, _mm256_castps256_ps128(v));
+    _mm_store_ps(high, _mm256_extractf128_ps(v, 1));
+  }
   // Lane i is laneValue(i), assembled in registers: values just written one by one and loaded as a
   // vector would wait for the stores to retire (a store-forwarding stall).
   template <typename LaneValue>

@@ -42,6 +42,22 @@ struct FloatScalar {
     return r;
   }
 
+  // Eight lanes as two halves of four: lanes 0-3 `low`, 4-7 `high` (halves), lanes i and i + 4 both
+  // p[i] (twice), and the halves stored apart (storeHalves): two rays against one block of four
+  // triangles in one pass.
+  static FloatScalar halves(float low, float high) {
+    static_assert(N == 8);
+    return {{low, low, low, low, high, high, high, high}};
+  }
+  static FloatScalar twice(const float* p) {
+    static_assert(N == 8);
+    return {{p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]}};
+  }
+  void storeHalves(float* low, float* high) const {
+    static_assert(N == 8);
+    std::copy(v, v + 4, low);
+    std::copy(v + 4, v + 8, high);
+  }
   // Column c < N of the N rows of N floats that start at p, p + stride, ...: out[c] lane i is
   // p[i * stride + c] (a transposed load, as of the leading fields of N structs).
   static void loadColumns(const float* p, size_t stride, FloatScalar out[N]) {

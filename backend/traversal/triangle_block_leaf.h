@@ -100,14 +100,14 @@ template <typename F>
 // computes t < 0 too and rejects it against any tnear >= 0. R is kept within [2^-30, 2^36] so
 // that neither bound nor T leaves the normal floats. (The randomized test finds dropped hits only
 // once the bounds are narrowed to 2^-30: it checks the direction, the bound above the constant.)
+// negativeSz: the lanes whose ray has a negative Sz.
 template <typename F>
-[[gnu::always_inline]] inline int certainlyBehindLanes(const ShearedEdges<F>& e, float Sz, int candidates) {
+[[gnu::always_inline]] inline int certainlyBehindLanes(const ShearedEdges<F>& e, int negativeSz, int candidates) {
   const F T = e.U * e.dz[0] + e.V * e.dz[1] + e.W * e.dz[2];
-  const int allLanes = (1 << F::kWidth) - 1;
   // The sign of t = T / det / dir[kz] (Sz = 1 / dir[kz] has dir[kz]'s sign), with U's sign for the
   // determinant's: a candidate's U, V and W share one sign, which their sum keeps. NaNs are dropped
   // below.
-  const int negative = (signMask(T) ^ signMask(e.U) ^ (std::signbit(Sz) ? allLanes : 0)) & candidates;
+  const int negative = (signMask(T) ^ signMask(e.U) ^ negativeSz) & candidates;
   if (negative == 0) return 0;
   const F det = e.U + e.V + e.W;
   // |dx| <= |x| + |Sx dz| <= |x| + |dz|, and so for dy: an R from the values at hand.
@@ -141,13 +141,44 @@ template <typename F4>
   BlockCandidates c;
   c.resolve = verdict.resolve;
   c.recheck = verdict.recheck;
-  if (c.resolve && dropBehind) c.resolve &= ~certainlyBehindLanes(e, wr.Sz, c.resolve);
+  if (c.resolve && dropBehind) c.resolve &= ~certainlyBehindLanes(e, std::signbit(wr.Sz) ? 15 : 0, c.resolve);
   if (c.resolve) {
     e.U.store(c.U);
     e.V.store(c.V);
     e.W.store(c.W);
   }
   return c;
+}
+
+// watertightBlockCandidates for two rays at once, ray a in lanes 0-3 and ray b in lanes 4-7 of
+// one eight-lane pass (F8): the rays must share the frame's axis order (kx, ky, kz). Each lane
+// computes what the four-lane test computes for its ray, so each ray's candidates and U, V, W are
+// the same. dropBehindA / B: as watertightBlockCandidates' dropBehind, per ray.
+template <typename F8>
+[[gnu::always_inline]] inline void watertightBlockCandidatesOfPair(const TriangleBlock4& block,
+                                                                   const WatertightRay& a, const WatertightRay& b,
+                                                                   bool dropBehindA, bool dropBehindB,
+                                                                   BlockCandidates& ca, BlockCandidates& cb) {
+  static_assert(F8::kWidth == 8);
+  const int axes[3] = {a.kx, a.ky, a.kz};
+  F8 org[3], vertex[3][3];
+  for (int i = 0; i < 3; ++i) {
+    org[i] = F8::halves(a.org[axes[i]], b.org[axes[i]]);
+    for (int k = 0; k < 3; ++k) vertex[k][i] = F8::twice(block.v[k][axes[i]]);
+  }
+  const ShearedEdges<F8> e = shearedEdges(vertex, org, F8::halves(a.Sx, b.Sx), F8::halves(a.Sy, b.Sy));
+  const EdgeVerdict verdict = judgeEdges(e, block.usedLanes() * 0x11);
+  int resolve = verdict.resolve;
+  const int dropping = resolve & ((dropBehindA ? 0x0F : 0) | (dropBehindB ? 0xF0 : 0));
+  if (dropping)
+    resolve &= ~certainlyBehindLanes(e, (std::signbit(a.Sz) ? 0x0F : 0) | (std::signbit(b.Sz) ? 0xF0 : 0), dropping);
+  ca.resolve = resolve & 15, cb.resolve = resolve >> 4;
+  ca.recheck = verdict.recheck & 15, cb.recheck = verdict.recheck >> 4;
+  if (resolve) {
+    e.U.storeHalves(ca.U, cb.U);
+    e.V.storeHalves(ca.V, cb.V);
+    e.W.storeHalves(ca.W, cb.W);
+  }
 }
 
 // A block's four triangles through the whole Moeller-Trumbore test (intersect/moeller_triangle.h,
@@ -241,6 +272,32 @@ template <typename D4>
                          block.primID[lane], TriangleKind(block.kind[lane]), th, instID);
 }
 
+// The second half of visitBlockHits' watertight test: each candidate lane of c in lane order, its
+// answer from the double-precision plane hit (or the scalar test's recheck); visit(lane, th)
+// returns true to stop.
+template <typename D4, typename Visit>
+[[gnu::always_inline]] inline bool visitBlockCandidates(const TriangleSet& set, const TriangleBlock4& block,
+                                                        const BlockCandidates& c, const WatertightRay& wr,
+                                                        const Ray& ray, Visit&& visit) {
+  BlockPlaneHits plane;
+  if (c.resolve) plane = blockPlaneHits<D4>(block, ray);
+  int lanes = c.resolve | c.recheck;
+  while (lanes) {
+    const int lane = __builtin_ctz(unsigned(lanes));
+    lanes &= lanes - 1;
+    if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
+    TriangleHit th;
+    const bool hit =
+        (c.recheck >> lane) & 1
+            ? intersectWatertight(wr, ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th)
+            : finishWatertightHit(
+                  wr, ray, [&](int k, int axis) { return block.v[k][axis][lane]; }, c.U[lane], c.V[lane], c.W[lane],
+                  (plane.degenerate >> lane) & 1, plane.t[lane], plane.u[lane], plane.v[lane], th);
+    if (hit && visit(lane, th)) return true;
+  }
+  return false;
+}
+
 // Visits each candidate lane of the block in lane order with its triangle test result;
 // visit(lane, th) returns true to stop. kDropBehind: candidates certainly behind the origin are
 // left out in float (certainlyBehindLanes); kernels for rays that start away from surfaces (camera
@@ -262,24 +319,33 @@ template <typename F4, typename D4, bool kDropBehind = true, typename Visit>
     return false;
   }
   // A NaN tnear rejects every t as well.
-  const BlockCandidates c = watertightBlockCandidates<F4>(block, wr, kDropBehind && !(ray.tnear < 0.f));
-  BlockPlaneHits plane;
-  if (c.resolve) plane = blockPlaneHits<D4>(block, ray);
-  int lanes = c.resolve | c.recheck;
-  while (lanes) {
-    const int lane = __builtin_ctz(unsigned(lanes));
-    lanes &= lanes - 1;
-    if ((set.geometryMasks[block.geomID[lane]] & ray.mask) == 0) continue;
-    TriangleHit th;
-    const bool hit =
-        (c.recheck >> lane) & 1
-            ? intersectWatertight(wr, ray, block.vertex(0, lane), block.vertex(1, lane), block.vertex(2, lane), th)
-            : finishWatertightHit(
-                  wr, ray, [&](int k, int axis) { return block.v[k][axis][lane]; }, c.U[lane], c.V[lane], c.W[lane],
-                  (plane.degenerate >> lane) & 1, plane.t[lane], plane.u[lane], plane.v[lane], th);
-    if (hit && visit(lane, th)) return true;
-  }
-  return false;
+  return visitBlockCandidates<D4>(set, block, watertightBlockCandidates<F4>(block, wr, kDropBehind && !(ray.tnear < 0.f)),
+                                  wr, ray, visit);
+}
+
+// The closest-hit visit of a block's candidates for one ray: an accepted hit shrinks ray.tfar and
+// becomes `hit`, found is set. Inlined (GCC kept the lambda out of line: a call with vzeroupper for
+// every accepted hit).
+[[gnu::always_inline]] inline auto closestHitVisitor(const TriangleSet& set, const TriangleBlock4& block, Ray& ray,
+                                                     Hit& hit, const QueryState& state, bool& found) {
+  return [&set, &block, &ray, &hit, &state, &found](int lane, const TriangleHit& th) __attribute__((always_inline)) {
+    if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
+        !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, false))
+      return false;
+    ray.tfar = th.t;
+    hit = makeBlockHit(set, block, lane, th, state.instID);
+    found = true;
+    return false;
+  };
+}
+
+// The any-hit visit of a block's candidates for one ray: true (stop) when the filters accept one.
+[[gnu::always_inline]] inline auto anyHitVisitor(const TriangleSet& set, const TriangleBlock4& block, const Ray& ray,
+                                                 const QueryState& state) {
+  return [&set, &block, &ray, &state](int lane, const TriangleHit& th) {
+    return !needsFilter(set.occlusionFiltered, block.geomID[lane], state) ||
+           state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, true);
+  };
 }
 
 // Closest-hit test of blockCount blocks from firstBlock; shrinks ray.tfar on accepted hits.
@@ -289,19 +355,8 @@ template <typename F4, typename D4, bool kDropBehind = true>
                                    uint32_t blockCount, const WatertightRay& wr, Ray& ray, Hit& hit,
                                    const QueryState& state) {
   bool found = false;
-  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
-    const TriangleBlock4& block = blocks[b];
-    // Inlined (GCC kept this lambda out of line: a call with vzeroupper for every accepted hit).
-    visitBlockHits<F4, D4, kDropBehind>(set, block, wr, ray, [&](int lane, const TriangleHit& th) __attribute__((always_inline)) {
-      if (needsFilter(set.intersectFiltered, block.geomID[lane], state) &&
-          !state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, false))
-        return false;
-      ray.tfar = th.t;
-      hit = makeBlockHit(set, block, lane, th, state.instID);
-      found = true;
-      return false;
-    });
-  }
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
+    visitBlockHits<F4, D4, kDropBehind>(set, blocks[b], wr, ray, closestHitVisitor(set, blocks[b], ray, hit, state, found));
   return found;
 }
 
@@ -309,14 +364,8 @@ template <typename F4, typename D4, bool kDropBehind = true>
 template <typename F4, typename D4>
 [[gnu::always_inline]] inline bool intersectBlocksAny(const TriangleSet& set, const TriangleBlock4* blocks, uint32_t firstBlock,
                                uint32_t blockCount, const WatertightRay& wr, const Ray& ray, const QueryState& state) {
-  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b) {
-    const TriangleBlock4& block = blocks[b];
-    if (visitBlockHits<F4, D4>(set, block, wr, ray, [&](int lane, const TriangleHit& th) {
-          return !needsFilter(set.occlusionFiltered, block.geomID[lane], state) ||
-                 state.callbacks->acceptHit(set.owner, ray, makeBlockHit(set, block, lane, th, state.instID), th.t, true);
-        }))
-      return true;
-  }
+  for (uint32_t b = firstBlock; b < firstBlock + blockCount; ++b)
+    if (visitBlockHits<F4, D4>(set, blocks[b], wr, ray, anyHitVisitor(set, blocks[b], ray, state))) return true;
   return false;
 }
 

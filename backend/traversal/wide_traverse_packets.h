@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "memory/uninitialized_array.h"
+#include "traversal/triangle_block_pairs.h"
 #include "traversal/triangle_packet_leaf.h"
 #include "traversal/wide_traverse.h"
 
@@ -473,13 +474,21 @@ struct PacketFrames {
   bool shearMade_ = false;
 };
 
+// The eight-lane type that tests two of a packet's rays against a block at once
+// (triangle_block_pairs.h): FN for eight-wide nodes; with four-wide ones each ray goes alone.
+template <typename FN>
+using PairLanes = std::conditional_t<FN::kWidth == 8, FN, void>;
+
 // A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least three
-// quarters of a lane group reach it together; fewer rays are tested one by one against the blocks'
-// four triangles at a time. The lanes share each triangle's loads, but every candidate they find
-// takes the scalar double-precision second half, where a ray's own block test takes it for four
-// triangles at once (simd/double_lanes.h): since that change the lanes paid only where most of a
-// packet meets a leaf whose triangles few of its rays hit (the slanted stacks' long slivers). At a
-// quarter (the threshold until 2026-11-27) against three quarters, per process, one thread:
+// quarters of a lane group reach it together; fewer rays are tested against the blocks' four
+// triangles at a time, two rays in one eight-lane pass where they share the frame's axis order
+// (triangle_block_pairs.h; paired probe against one by one, bunny / motorBike / dragon: coherent
+// rtcIntersect8 1.00 / 1.02 / 1.02, rtcOccluded8 1.06 / 1.04 / 0.99, orthographic 1.02 / 1.03 /
+// 1.03). The lanes share each triangle's loads, but every candidate they find takes the scalar
+// double-precision second half, where a ray's own block test takes it for four triangles at once
+// (simd/double_lanes.h): since that change the lanes paid only where most of a packet meets a leaf
+// whose triangles few of its rays hit (the slanted stacks' long slivers). At a quarter (the
+// threshold until 2026-11-27) against three quarters, per process, one thread:
 // rtcIntersect8 bunny / motorBike / dragon 1.028 / 1.072 / 1.080, rtcOccluded8 1.046 / 1.043 /
 // 1.035, streams of 64 1.03-1.05, axis-516k 1.33, diagonal-42k 1.01 (shadow packets 1.45); never
 // as lanes lost diagonal-42k's camera packets 23%.
@@ -510,23 +519,14 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     }
     // Rays declared coherent (camera rays) start away from surfaces: their blocks leave out the
     // check for candidates behind the origin, as the single-ray kernels for such rays do (bunny
-    // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind). Two loops: one generic
-    // lambda instantiated for both took 5 instructions a ray more.
-    if (state.coherent) {
-      for (; mask; mask &= mask - 1) {
-        const int r = __builtin_ctz(mask);
-        if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>, false>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                                     f.triangleFrame(rays, r), rays[r], hits[r], state))
-          found |= 1u << r;
-      }
-      return 0u;
-    }
-    for (; mask; mask &= mask - 1) {
-      const int r = __builtin_ctz(mask);
-      if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                            f.triangleFrame(rays, r), rays[r], hits[r], state))
-        found |= 1u << r;
-    }
+    // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind). One instantiation for
+    // each form: a generic lambda instantiated for both took 5 instructions a ray more.
+    if (state.coherent)
+      found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, false>(
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
+    else
+      found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
     return 0u;
   };
   const auto solo = [&](uint32_t node, uint32_t mask) {
@@ -558,12 +558,8 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
       finished = intersectBlocksAnyPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
                                               f.frameOf(rays), rays, mask, state);
     } else {
-      for (; mask; mask &= mask - 1) {
-        const int r = __builtin_ctz(mask);
-        if (intersectBlocksAny<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r],
-                                   state))
-          finished |= 1u << r;
-      }
+      finished = intersectBlocksAnyOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>>(
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, mask, state);
     }
     occluded |= finished;
     return finished;

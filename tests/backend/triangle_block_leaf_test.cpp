@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "math/float_steps.h"
+#include "random_directions.h"
 #include "simd/cpu_features.h"
 #include "simd/double_lanes.h"
 #include "simd/float4_sse.h"
@@ -76,14 +77,7 @@ BlockAnswer firstAnswer(const std::vector<LaneAnswer>& answers) {
   return {true, answers[0].hit.t};
 }
 
-Vec3f randomUnit(std::mt19937& rng) {
-  std::normal_distribution<float> normal;
-  for (;;) {
-    const Vec3f d{normal(rng), normal(rng), normal(rng)};
-    const float length = std::sqrt(dot(d, d));
-    if (length > 1e-3f) return d * (1.f / length);
-  }
-}
+using test::randomUnit;
 
 // Rays aimed at vertices, edges and interiors of triangles near and far from the origin, small and
 // large, seen from near and far; the segment ends exactly at the scalar test's hit distance and
