@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cmath>
-#include <type_traits>
 
 #include "intersect/ray.h"
 #include "intersect/triangle.h"
@@ -138,29 +137,16 @@ inline bool resolveDegenerateHit(const WatertightRay& wr, const Ray& ray, Vertex
   return true;
 }
 
-// The ray's frame as the second half takes it: the frame itself, or a callable that makes it when
-// asked (only a degenerate triangle reads it; a packet leaf's candidate then makes its frame only
-// in that case: made for every candidate, it cost about 28 instructions each, 2.4 candidates a
-// coherent packet of eight on the bunny).
-template <typename Frame>
-[[gnu::always_inline]] inline const WatertightRay& frameFrom(Frame&& frame) {
-  if constexpr (std::is_invocable_v<Frame>)
-    return frame();
-  else
-    return frame;
-}
-
 // The end of the test, once the edge functions U, V, W (weights of v0, v1, v2 in the sheared frame,
 // no mixed signs) and the plane hit in double precision (t, u, v rounded to float; `degenerate`
 // when its determinant is zero) are known: rejects det == 0 and a distance outside the segment.
 // The SIMD kernels compute the plane hits of a block's four triangles at once and end each lane here.
-// frame: see frameFrom.
-template <typename Frame, typename Vertex>
-[[gnu::always_inline]] inline bool finishWatertightHit(Frame&& frame, const Ray& ray, Vertex&& vertex, float U,
+template <typename Vertex>
+[[gnu::always_inline]] inline bool finishWatertightHit(const WatertightRay& frame, const Ray& ray, Vertex&& vertex, float U,
                                                        float V, float W, bool degenerate, float t, float u, float v,
                                                        TriangleHit& out) {
   if (!(U + V + W != 0.f)) return false;  // also rejects NaN
-  if (degenerate) return resolveDegenerateHit(frameFrom(frame), ray, vertex, U, V, W, out);
+  if (degenerate) return resolveDegenerateHit(frame, ray, vertex, U, V, W, out);
   if (!(t > ray.tnear && t <= ray.tfar)) return false;
   out = {t, u, v};
   return true;
@@ -172,9 +158,8 @@ template <typename Frame, typename Vertex>
 // single precision the shear loses accuracy for small triangles far from the ray origin and for
 // grazing rays. Distance and barycentrics of an accepted candidate are therefore computed in
 // double precision from the triangle's own edges (per accepted candidate, not per test).
-// frame: see frameFrom.
-template <typename Frame, typename Vertex>
-[[gnu::always_inline]] inline bool resolveWatertightHitOf(Frame&& frame, const Ray& ray, Vertex&& vertex, float U,
+template <typename Vertex>
+[[gnu::always_inline]] inline bool resolveWatertightHitOf(const WatertightRay& frame, const Ray& ray, Vertex&& vertex, float U,
                                                           float V, float W, TriangleHit& out) {
   const double org[3] = {ray.org.x, ray.org.y, ray.org.z}, dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
   double v[3][3];
@@ -184,8 +169,7 @@ template <typename Frame, typename Vertex>
   return finishWatertightHit(frame, ray, vertex, U, V, W, h.det == 0.0, float(h.t), float(h.u), float(h.v), out);
 }
 
-template <typename Frame>
-[[gnu::always_inline]] inline bool resolveWatertightHit(Frame&& frame, const Ray& ray, const Vec3f& v0,
+[[gnu::always_inline]] inline bool resolveWatertightHit(const WatertightRay& frame, const Ray& ray, const Vec3f& v0,
                                                         const Vec3f& v1, const Vec3f& v2, float U, float V, float W,
                                                         TriangleHit& out) {
   const Vec3f* vertices[3] = {&v0, &v1, &v2};

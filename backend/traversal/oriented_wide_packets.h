@@ -5,8 +5,8 @@
 // being rays instead of children;
 // each ray's origin and inverse direction in the palette's frames are made once a packet, and for
 // rays of a common direction (an orthographic camera) the direction's transform is made once for
-// all of them. Leaves reached by at least four rays are tested as the wide AABB layouts' packets
-// test theirs (triangle_packet_leaf.h), fewer ray by ray, and a ray left alone below a node
+// all of them. Leaves test the rays that reach them as the wide AABB layouts' packets do, two rays
+// to a block test where they can (triangle_block_pairs.h), and a ray left alone below a node
 // finishes with the single-ray walk. A ray's answer is thus its own, but for which of several
 // hits at exactly the same distance it reports: the packet visits leaves in its order (and may
 // take a ray into a leaf it alone would have skipped for starting at its hit's distance), and
@@ -21,17 +21,16 @@
 #include <limits>
 
 #include "traversal/oriented_wide_traverse.h"
-#include "traversal/triangle_packet_leaf.h"
 #include "traversal/wide_traverse_packets.h"
 
 namespace obvh {
 
-// Leaves reached by fewer rays test them one by one (at two, as the AABB packets did until
-// 2026-11-27, diagonal-42k's orthographic packets traced 5% slower; leafTestsRaysAsLanes now asks
-// for three quarters of a lane group, the same within 0.5% on the stacks' camera packets); nodes
-// reached by at most kOrientedSoloRays rays let them go on alone (one, two or three measured alike,
-// within 2%).
-constexpr int kRaysAsLanesAtLeast = 4;
+// Nodes reached by at most kOrientedSoloRays rays let them go on alone (one, two or three measured
+// alike, within 2%). Until 2026-11-30 leaves reached by four rays or more (and three quarters of a
+// lane group) tested them as the lanes of each triangle's test; against the pairs, with that
+// dropped: accel=hybrid bunny 1.03, small-1.5k 1.05-1.07, diagonal-42k 0.99-1.02, mixed-654k
+// 1.02; accel=obb small-1.5k 1.06-1.07, diagonal-42k 0.99-1.01, mixed-654k 1.01-1.02 (paired
+// probe, rtcIntersect8 camera and orthographic packets).
 constexpr int kOrientedSoloRays = 3;
 
 // The packet's rays as lanes (FN::kWidth rays a group), in world space and in every palette slot.
@@ -408,7 +407,7 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
   if (view.empty()) return 0;
   const uint32_t live = raysPassingGate<F4>(view, rays, active);
   if (live == 0) return 0;
-  PacketFrames<FN> f(live);
+  PacketFrames f(live);
   uint32_t found = 0;
   const auto blocksAlone = [&](uint32_t firstBlock, uint32_t blockCount, int r) {
     if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
@@ -416,13 +415,8 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
       found |= 1u << r;
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    if (__builtin_popcount(mask) >= kRaysAsLanesAtLeast && leafTestsRaysAsLanes<FN>(view.set, mask) &&
-        f.shear(rays).usable) {
-      found |= intersectBlocksClosestPacket<FN>(view.set, bvh.blocks.data(), firstBlock, blockCount, f.shear(rays),
-                                                f.frameOf(rays), rays, hits, mask, state);
-      return 0u;
-    }
-    for (; mask; mask &= mask - 1) blocksAlone(firstBlock, blockCount, __builtin_ctz(mask));
+    found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
+        view.set, bvh.blocks.data(), firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
     return 0u;
   };
   const auto solo = [&](uint32_t node, uint32_t mask) {

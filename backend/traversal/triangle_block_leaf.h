@@ -17,7 +17,7 @@
 namespace obvh {
 
 // The watertight test's edge functions U, V, W (weights of v0, v1, v2) for SIMD lanes that are
-// either four triangles of one ray (blocks) or several rays against one triangle (packets): the
+// four triangles of one ray (blocks) or of each of two rays (triangle_block_pairs.h): the
 // vertices relative to the origin in the ray's (kx, ky, kz) order, sheared. Same operations and
 // order as the scalar test, so every lane rounds as it does.
 template <typename F>

@@ -1,9 +1,9 @@
-// A packet's rays that reach a leaf too few to be tested as lanes (triangle_packet_leaf.h) take
-// the single-ray block test (triangle_block_leaf.h); two of them that share the watertight frame's
-// axis order, as a coherent packet's rays do, take it together: ray a in lanes 0-3 and ray b in
-// lanes 4-7 of one eight-lane pass over each block (watertightBlockCandidatesOfPair), sharing the
-// block's loads. Each ray still meets the blocks in order, with the same operations per lane and
-// its own second half, so its answers are the single-ray test's, bit for bit.
+// A packet's rays that reach a leaf: each is tested against the blocks' four triangles at a time
+// (triangle_block_leaf.h), and two that share the watertight frame's axis order, as a coherent
+// packet's rays do, are tested together: ray a in lanes 0-3 and ray b in lanes 4-7 of one
+// eight-lane pass over each block (watertightBlockCandidatesOfPair), sharing the block's loads.
+// Each ray still meets the blocks in order, with the same operations per lane and its own second
+// half, so its answers are the single-ray test's, bit for bit.
 // Templates only, included inside the per-ISA target regions like the kernels that use them.
 #pragma once
 

@@ -8,13 +8,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <new>
 #include <type_traits>
 #include <utility>
 
 #include "memory/uninitialized_array.h"
 #include "traversal/triangle_block_pairs.h"
-#include "traversal/triangle_packet_leaf.h"
 #include "traversal/wide_traverse.h"
 
 namespace obvh {
@@ -433,74 +431,53 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
 // the unused lanes of a shadow packet often are) have already been dropped where the packet was
 // gathered (QueryDispatch's gatherLiveLanes; one that got here would enter no box, only cost
-// time): checking them again, ray by ray, was about 100 instructions a packet of eight. The
-// triangle test's lanes (shear) are made at the packet's first leaf, and a ray's
-// own triangle-test frame when one of its candidates, or a leaf it tests alone, needs it. A ray
-// that goes on alone makes its box-test frame where it does, as a local the compiler keeps in
-// registers: made for every ray up front and kept in an array, packets traced 2-6% slower (paired
-// probe).
-template <typename FN>
+// time): checking them again, ray by ray, was about 100 instructions a packet of eight. A ray's
+// triangle-test frame is made when a leaf it reaches first needs it. A ray that goes on alone
+// makes its box-test frame where it does, as a local the compiler keeps in registers: made for
+// every ray up front and kept in an array, packets traced 2-6% slower (paired probe).
 struct PacketFrames {
   uint32_t live = 0;
 
   explicit PacketFrames(uint32_t active) : live(active) {}
 
-  // Ray r's triangle-test frame, made when first asked for: from the packet's shear lanes once a
-  // usable shear exists (the same floats), else from the ray.
+  // Ray r's triangle-test frame, made when first asked for.
   const WatertightRay& triangleFrame(const Ray* rays, int r) {
     if (!((prepared_ >> r) & 1)) {
-      watertight_[r] = shearMade_ && shear_[0].usable ? shear_[0].frame(rays[r], r) : WatertightRay(rays[r]);
+      watertight_[r] = WatertightRay(rays[r]);
       prepared_ |= 1u << r;
     }
     return watertight_[r];
   }
-  // Ray r's frame on request, for the packet leaf's candidates (visitPacketHits).
+  // Ray r's frame on request, for the leaves' tests of several rays (triangle_block_pairs.h).
   auto frameOf(const Ray* rays) {
     return [this, rays](int r) -> const WatertightRay& { return triangleFrame(rays, r); };
-  }
-  // The live rays as SIMD lanes of the triangle test when they share its axis order (else
-  // shear().usable is false).
-  const PacketShear<FN>& shear(const Ray* rays) {
-    // Constructed here, not through std::optional: the constructor is always inlined and the
-    // standard library's code is outside the kernels' target regions.
-    if (!shearMade_) new (shear_.data()) PacketShear<FN>(rays, live), shearMade_ = true;
-    return shear_[0];
   }
 
  private:
   UninitializedArray<WatertightRay, kMaxPacketSize> watertight_;
   uint32_t prepared_ = 0;
-  UninitializedArray<PacketShear<FN>, 1> shear_;
-  bool shearMade_ = false;
 };
 
-// The eight-lane type that tests two of a packet's rays against a block at once
-// (triangle_block_pairs.h): FN for eight-wide nodes; with four-wide ones each ray goes alone.
+// A packet's rays that reach a leaf are tested against its blocks' four triangles at a time, two
+// rays in one eight-lane pass where they share the watertight frame's axis order
+// (triangle_block_pairs.h; paired probe against one by one, bunny / motorBike / dragon: coherent
+// rtcIntersect8 1.02 / 1.02 / 1.02, rtcOccluded8 1.05 / 1.03 / 1.00, orthographic 1.03 / 1.03 /
+// 1.02). PairLanes is that eight-lane type: FN for eight-wide nodes; with four-wide ones each ray
+// goes alone. Until 2026-11-30 leaves that three quarters of a lane group reached tested the rays
+// as the lanes of one triangle's test (the packet leaf, triangle_packet_leaf.h): against the pairs
+// with that leaf dropped, bunny / motorBike / dragon traced 1.03 / 1.00 / 1.00 as fast (coherent
+// rtcIntersect8), 1.00 / 1.02 / 1.01 (rtcOccluded8) and 1.03 / 1.05 / 1.00 (orthographic), and
+// the stacks small-1.5k 1.06-1.07, diagonal-42k 1.01-1.04, axis-516k 1.01-1.02, mixed-654k
+// 1.01-1.03 (paired probe). The lanes shared each triangle's loads, but every candidate they found
+// took the scalar double-precision second half, where a ray's own block test takes it for four
+// triangles at once (simd/double_lanes.h).
 template <typename FN>
 using PairLanes = std::conditional_t<FN::kWidth == 8, FN, void>;
-
-// A leaf tests the packet's rays as SIMD lanes (triangle_packet_leaf.h) when at least three
-// quarters of a lane group reach it together; fewer rays are tested against the blocks' four
-// triangles at a time, two rays in one eight-lane pass where they share the frame's axis order
-// (triangle_block_pairs.h; paired probe against one by one, bunny / motorBike / dragon: coherent
-// rtcIntersect8 1.00 / 1.02 / 1.02, rtcOccluded8 1.06 / 1.04 / 0.99, orthographic 1.02 / 1.03 /
-// 1.03). The lanes share each triangle's loads, but every candidate they find takes the scalar
-// double-precision second half, where a ray's own block test takes it for four triangles at once
-// (simd/double_lanes.h): since that change the lanes paid only where most of a packet meets a leaf
-// whose triangles few of its rays hit (the slanted stacks' long slivers). At a quarter (the
-// threshold until 2026-11-27) against three quarters, per process, one thread:
-// rtcIntersect8 bunny / motorBike / dragon 1.028 / 1.072 / 1.080, rtcOccluded8 1.046 / 1.043 /
-// 1.035, streams of 64 1.03-1.05, axis-516k 1.33, diagonal-42k 1.01 (shadow packets 1.45); never
-// as lanes lost diagonal-42k's camera packets 23%.
-template <typename FN>
-bool leafTestsRaysAsLanes(const TriangleSet& set, uint32_t rays) {
-  return !set.fast && __builtin_popcount(rays) * 4 >= FN::kWidth * 3;
-}
 
 template <typename FN, typename F4>
 uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
                                         uint32_t active, const QueryState& state) {
-  PacketFrames<FN> f(active);
+  PacketFrames f(active);
   uint32_t found = 0;
   const auto closestAlone = [&](uint32_t start, int r) {
     const WideRayFrame<FN> frame(rays[r]);
@@ -512,11 +489,6 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     });
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
-      found |= intersectBlocksClosestPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
-                                                f.frameOf(rays), rays, hits, mask, state);
-      return 0u;
-    }
     // Rays declared coherent (camera rays) start away from surfaces: their blocks leave out the
     // check for candidates behind the origin, as the single-ray kernels for such rays do (bunny
     // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind). One instantiation for
@@ -540,7 +512,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
 template <typename FN, typename F4>
 uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
                                     const QueryState& state) {
-  PacketFrames<FN> f(active);
+  PacketFrames f(active);
   uint32_t occluded = 0;
   const auto anyAlone = [&](uint32_t start, int r) {
     bool found = false;
@@ -553,14 +525,8 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     return found;
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
-    uint32_t finished = 0;
-    if (leafTestsRaysAsLanes<FN>(bvh.set, mask) && f.shear(rays).usable) {
-      finished = intersectBlocksAnyPacket<FN>(bvh.set, bvh.blocks, firstBlock, blockCount, f.shear(rays),
-                                              f.frameOf(rays), rays, mask, state);
-    } else {
-      finished = intersectBlocksAnyOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>>(
-          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, mask, state);
-    }
+    const uint32_t finished = intersectBlocksAnyOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>>(
+        bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, mask, state);
     occluded |= finished;
     return finished;
   };

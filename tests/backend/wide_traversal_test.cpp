@@ -374,8 +374,8 @@ void expectPacketsMatchSingleRays(KernelIsa isa) {
         for (int axis = 0; axis < 3; ++axis) rays[r].dir[axis] = sign[axis] * (0.05f + std::fabs(d[axis]));
       }
       if (p % 4 == 3) {
-        // One dominant axis and sign for every ray, as a camera's rays have: the packet then also
-        // tests each triangle against its rays as SIMD lanes (PacketShear).
+        // One dominant axis and sign for every ray, as a camera's rays have: the packet's leaves
+        // then also test two rays against each block at once (triangle_block_pairs.h).
         const Vec3f first = pool[p * 16].dir;
         int dominant = 0;
         for (int axis = 1; axis < 3; ++axis)
