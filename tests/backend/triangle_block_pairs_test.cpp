@@ -237,12 +237,11 @@ TEST(TriangleBlockPairs, LeafAnswersAreEachRaysOwn) {
         const uint32_t mask = masks(rng);
         const bool dropBehind = trial % 3 != 0;
         const LeafAnswers expected = aloneLeaf(set, blocks, rays, mask, dropBehind);
-        for (uint32_t m = mask; m;) {  // the pairs the leaf test forms, as it forms them
-          const int r = __builtin_ctz(m);
-          m &= m - 1;
-          if (m && sameAxisOrder(WatertightRay(rays[size_t(r)]), WatertightRay(rays[size_t(__builtin_ctz(m))])))
-            m &= m - 1, ++pairs;
-        }
+        std::vector<WatertightRay> frames(rays.begin(), rays.end());
+        forRaysInPairs<simd::FloatScalar<8>>(  // the pairs the leaf tests form
+            mask, true, [&](int r) -> const WatertightRay& { return frames[size_t(r)]; },
+            [&](int, int, const WatertightRay&, const WatertightRay&) { ++pairs; },
+            [](int, const WatertightRay&) {});
         raysHit += size_t(__builtin_popcount(expected.found));
         raysBlocked += size_t(__builtin_popcount(expected.blocked));
         std::vector<LeafAnswers> answers = {scalarPairsLeaf(set, blocks, rays, mask, dropBehind)};
