@@ -16,6 +16,9 @@ struct WatertightRay {
   int kx = 0, ky = 1, kz = 2;
   float Sx = 0.f, Sy = 0.f, Sz = 1.f;
   Vec3f org;
+  // tnear * |dir[kz]|: the start of the segment as a distance along kz, with which the block tests
+  // drop in float the candidates that certainly lie before it (certainlyBeforeNearLanes).
+  float nearAlongKz = 0.f;
 
   WatertightRay() = default;
   // Always inlined: a kernel whose inliner budget ran out called the one copy the linker keeps,
@@ -33,6 +36,7 @@ struct WatertightRay {
       ky = t;
     }
     shearAlongAxes(ray);
+    nearAlongKz = ray.tnear * std::fabs(ray.dir[kz]);
   }
 
   // The same constants with the axes chosen by arithmetic on the comparisons instead of branches:
@@ -64,6 +68,7 @@ struct WatertightRay {
     w.Sx = ray.dir[other.kx] / dominant;
     w.Sy = ray.dir[other.ky] / dominant;
     w.Sz = 1.f / dominant;
+    w.nearAlongKz = ray.tnear * std::fabs(dominant);
     return w;
   }
 

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "bvh/triangle_block.h"
 #include "traversal/triangle_leaf.h"
@@ -82,33 +83,47 @@ template <typename F>
 }
 
 // Candidate lanes (edge functions of one sign, none zero) whose plane the ray's line certainly
-// crosses behind its origin (t < 0), decided in float from the edge functions: a secondary ray's
-// start triangle, which Embree rejects in a few float instructions, is otherwise resolved in double
-// precision only to be rejected there (callgrind, bunny diffuse bounces: 1.08 such passes a ray,
-// about 100 instructions each, of 1,134 in the kernel).
+// crosses before the start of its segment (t < tnear; for tnear = 0, behind the origin), decided in
+// float from the edge functions: a secondary ray's start triangle, which Embree rejects in a few
+// float instructions, is otherwise resolved in double precision only to be rejected there
+// (callgrind, bunny diffuse bounces: 1.08 such passes a ray, about 100 instructions each, of 1,134
+// in the kernel; of the lanes the bench's shadow rays, which start on the surface with tnear > 0,
+// resolved in double precision on the bunny, 84% were rejected there as lying before tnear).
 // Why it is exact: shearing is a linear map of determinant one whatever the rounding of Sx and Sy,
 // so with exactly computed edge functions T = U dz0 + V dz1 + W dz2 is -det[v0 - o, v1 - o, v2 - o]
 // and U + V + W is -N.(Sx, Sy, 1) for the normal N = (v1 - v0) x (v2 - v0), and the ray's t is
-// T / (U + V + W) / dir[kz] as long as N.(Sx, Sy, 1) and N.dir / dir[kz] have one sign. With R at
+// T / D / dir[kz] for D = N.dir / dir[kz], the exact U + V + W of the exact shear. With R at
 // least every |x|, |y|, |dz| and |coordinate of a vertex relative to the origin| (|Sx|, |Sy| <= 1:
 // kz is the dominant axis; u = 2^-24): x and y are within 4uR of their exact values, U, V, W
 // within 20uR^2 (|U| <= 2R^2), T within 82uR^3, and U + V + W within 70uR^2 of its exact value,
-// which lies within 16uR^2 of N.dir / dir[kz] (|Sx - dir[kx]/dir[kz]| <= u, |N| components <=
-// 8R^2). The bounds used, 2^-14 R^3 and 2^-14 R^2 (1024uR^3, 1024uR^2), leave twelve times that.
-// A lane whose |T| and |U + V + W| exceed them has the signs of its exact T and determinant, so its
-// exact t < 0, and the double-precision second half (errors near 2^-53 of the same magnitudes)
-// computes t < 0 too and rejects it against any tnear >= 0. R is kept within [2^-30, 2^36] so
-// that neither bound nor T leaves the normal floats. (The randomized test finds dropped hits only
-// once the bounds are narrowed to 2^-30: it checks the direction, the bound above the constant.)
-// negativeSz: the lanes whose ray has a negative Sz.
+// which lies within 16uR^2 of D (|Sx - dir[kx]/dir[kz]| <= u, |N| components <= 8R^2). The bounds
+// used, tBound = 2^-14 R^3 and detBound = 2^-14 R^2 (1024uR^3, 1024uR^2), leave twelve times that.
+// Where |U + V + W| > detBound, D has its sign s and |D| > |U + V + W| - detBound; with
+// q = s * sign(dir[kz]) * T, t = q' / (|dir[kz]| |D|) for the exact q' < q + tBound. So t < tnear
+// wherever q + tBound < tnear |dir[kz]| (|U + V + W| - detBound) (nearAlongKz times the bound on
+// |D|), checked with a margin of 2^-20 on each side, more than the rounding of the few float
+// operations on either side; for tnear = 0 the test is q < -tBound, the sign of t certainly
+// negative. The double-precision second half (errors near 2^-50 of the same
+// magnitudes, against a gap of at least eleven twelfths of tBound) then computes t < tnear too
+// and rejects the lane. R is kept within [2^-30, 2^36] so that neither bound nor T leaves the
+// normal floats, and nearAlongKz must be finite (an overflowed product bounds nothing). (The
+// randomized tests find dropped hits only once the bounds are narrowed to 2^-30: they check the
+// direction, the bound above the constant.)
+// negativeSz: the lanes whose ray has a negative Sz (dir[kz] < 0). nearAlongKz: each lane's ray's
+// WatertightRay::nearAlongKz; lanes where it is not positive are tested for t < 0.
 template <typename F>
-[[gnu::always_inline]] inline int certainlyBehindLanes(const ShearedEdges<F>& e, int negativeSz, int candidates) {
+[[gnu::always_inline]] inline int certainlyBeforeNearLanes(const ShearedEdges<F>& e, int negativeSz,
+                                                           const F& nearAlongKz, int candidates) {
   const F T = e.U * e.dz[0] + e.V * e.dz[1] + e.W * e.dz[2];
   // The sign of t = T / det / dir[kz] (Sz = 1 / dir[kz] has dir[kz]'s sign), with U's sign for the
   // determinant's: a candidate's U, V and W share one sign, which their sum keeps. NaNs are dropped
   // below.
-  const int negative = (signMask(T) ^ signMask(e.U) ^ negativeSz) & candidates;
-  if (negative == 0) return 0;
+  const int flip = signMask(e.U) ^ negativeSz;
+  const int negative = (signMask(T) ^ flip) & candidates;
+  const F zero = F::broadcast(0.f);
+  const int startsAhead = lessMask(zero, nearAlongKz) & candidates;  // tnear > 0: positive t may lie before it
+  const int considered = negative | startsAhead;
+  if (considered == 0) return 0;
   const F det = e.U + e.V + e.W;
   // |dx| <= |x| + |Sx dz| <= |x| + |dz|, and so for dy: an R from the values at hand.
   const F sheared = max(max(max(abs(e.x[0]), abs(e.x[1])), max(abs(e.x[2]), abs(e.y[0]))),
@@ -117,7 +132,19 @@ template <typename F>
   const F detBound = R * R * F::broadcast(0x1p-14f);
   const F tBound = detBound * R;
   const int usableR = lessEqualMask(F::broadcast(0x1p-30f), R) & lessEqualMask(R, F::broadcast(0x1p36f));
-  return negative & usableR & lessMask(tBound, abs(T)) & lessMask(detBound, abs(det));
+  const int certainDet = lessMask(detBound, abs(det));
+  // Rays from tnear = 0 (camera rays, offset secondary rays): t < 0, that is q < -tBound, in fewer
+  // operations.
+  if (startsAhead == 0) return negative & usableR & certainDet & lessMask(tBound, abs(T));
+  // q + tBound, rounded up by 2^-20 of itself (a rounded sum keeps the exact sum's sign).
+  const F q = select(flip, zero - T, T);
+  const F reach = q + tBound;
+  const F reachUp = reach + abs(reach) * F::broadcast(0x1p-20f);
+  // tnear |dir[kz]| (|U + V + W| - detBound), rounded down by 2^-20 of itself; 0 (t < 0) for the
+  // lanes whose ray starts at its origin, and for an overflowed product, which bounds nothing.
+  const F ahead = nearAlongKz * (abs(det) - detBound) * F::broadcast(1.f - 0x1p-20f);
+  const int finiteAhead = startsAhead & lessMask(nearAlongKz, F::broadcast(std::numeric_limits<float>::infinity()));
+  return considered & usableR & certainDet & lessMask(reachUp, select(finiteAhead, ahead, zero));
 }
 
 // A block's four triangles against one ray.
@@ -127,7 +154,7 @@ struct BlockCandidates {
   alignas(16) float U[4], V[4], W[4];
 };
 
-// dropBehind: leave out lanes certainlyBehindLanes finds (for rays with tnear >= 0, which reject them).
+// dropBehind: leave out lanes certainlyBeforeNearLanes finds (for rays with tnear >= 0, which reject them).
 template <typename F4>
 [[gnu::always_inline]] inline BlockCandidates watertightBlockCandidates(const TriangleBlock4& block,
                                                                         const WatertightRay& wr, bool dropBehind) {
@@ -141,7 +168,8 @@ template <typename F4>
   BlockCandidates c;
   c.resolve = verdict.resolve;
   c.recheck = verdict.recheck;
-  if (c.resolve && dropBehind) c.resolve &= ~certainlyBehindLanes(e, std::signbit(wr.Sz) ? 15 : 0, c.resolve);
+  if (c.resolve && dropBehind)
+    c.resolve &= ~certainlyBeforeNearLanes(e, std::signbit(wr.Sz) ? 15 : 0, F4::broadcast(wr.nearAlongKz), c.resolve);
   if (c.resolve) {
     e.U.store(c.U);
     e.V.store(c.V);
@@ -171,7 +199,8 @@ template <typename F8>
   int resolve = verdict.resolve;
   const int dropping = resolve & ((dropBehindA ? 0x0F : 0) | (dropBehindB ? 0xF0 : 0));
   if (dropping)
-    resolve &= ~certainlyBehindLanes(e, (std::signbit(a.Sz) ? 0x0F : 0) | (std::signbit(b.Sz) ? 0xF0 : 0), dropping);
+    resolve &= ~certainlyBeforeNearLanes(e, (std::signbit(a.Sz) ? 0x0F : 0) | (std::signbit(b.Sz) ? 0xF0 : 0),
+                                         F8::halves(a.nearAlongKz, b.nearAlongKz), dropping);
   ca.resolve = resolve & 15, cb.resolve = resolve >> 4;
   ca.recheck = verdict.recheck & 15, cb.recheck = verdict.recheck >> 4;
   if (resolve) {
@@ -299,8 +328,8 @@ template <typename D4, typename Visit>
 }
 
 // Visits each candidate lane of the block in lane order with its triangle test result;
-// visit(lane, th) returns true to stop. kDropBehind: candidates certainly behind the origin are
-// left out in float (certainlyBehindLanes); kernels for rays that start away from surfaces (camera
+// visit(lane, th) returns true to stop. kDropBehind: candidates certainly before tnear are
+// left out in float (certainlyBeforeNearLanes); kernels for rays that start away from surfaces (camera
 // rays declared coherent) leave the check out, which costs them about 19 instructions a block with
 // candidates (callgrind, bunny camera rays: 1.1% more instructions with it).
 template <typename F4, typename D4, bool kDropBehind = true, typename Visit>

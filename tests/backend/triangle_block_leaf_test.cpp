@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
@@ -159,6 +160,27 @@ void expectEveryLaneTypeAnswers(const TriangleBlock4& block, const Ray& ray, con
   }
 }
 
+// The block's lanes to resolve without the drop of candidates before tnear (all) and with it
+// (kept), for the scalar lanes (kind 0) or SSE's (kind 1), after checking that the drop only
+// removes lanes and never one of `expected` (the scalar test's hits); context names the case.
+struct DropOutcome {
+  int all = 0, kept = 0;
+  int dropped() const { return all & ~kept; }
+};
+DropOutcome dropOutcome(const TriangleBlock4& block, const WatertightRay& wr, int kind,
+                        const std::vector<LaneAnswer>& expected, const std::string& context) {
+  DropOutcome o;
+  o.kept = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, true).resolve
+                     : watertightBlockCandidates<simd::Float4Sse>(block, wr, true).resolve;
+  o.all = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, false).resolve
+                    : watertightBlockCandidates<simd::Float4Sse>(block, wr, false).resolve;
+  EXPECT_EQ(o.kept & ~o.all, 0) << context;
+  for (const LaneAnswer& answer : expected)
+    EXPECT_FALSE((o.dropped() >> answer.lane) & 1)
+        << "a lane the scalar test hits was dropped (t " << answer.hit.t << "): " << context;
+  return o;
+}
+
 // The double-precision second half of four lanes at once (Double4Scalar, Double4Sse, Double4Avx)
 // answers each lane exactly as the scalar test answers its triangle: same lanes, t, u and v, on
 // blocks of four triangles near each other (a ray passes through several) near and far from the
@@ -196,7 +218,7 @@ TEST(TriangleBlockLeaf, DoublePrecisionLanesAnswerLikeTheScalarTest) {
 }
 
 // Rays leaving surfaces (a secondary ray's start triangle, and its neighbours): lanes whose plane
-// the ray certainly crosses behind its origin are dropped in float (certainlyBehindLanes) before the
+// the ray certainly crosses behind its origin are dropped in float (certainlyBeforeNearLanes) before the
 // double-precision second half. Origins on the triangle and 1 to 256 ulps off it to either side,
 // directions leaving and entering, down to grazing, near and far from the coordinate origin, small
 // and large triangles: every dropped lane is one the scalar test rejects, every lane type answers as
@@ -264,22 +286,14 @@ TEST(TriangleBlockLeaf, LanesBehindTheOriginAreDroppedOnlyWhenTheScalarTestRejec
         const WatertightRay wr(ray);
         const std::vector<LaneAnswer> expected = scalarTestAnswers(tris, ray);
         for (int kind = 0; kind < 2; ++kind) {
-          const int kept = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, true).resolve
-                                     : watertightBlockCandidates<simd::Float4Sse>(block, wr, true).resolve;
-          const int all = kind == 0 ? watertightBlockCandidates<simd::Float4Scalar>(block, wr, false).resolve
-                                    : watertightBlockCandidates<simd::Float4Sse>(block, wr, false).resolve;
-          ASSERT_EQ(kept & ~all, 0);
-          for (int lane = 0; lane < 4; ++lane) {
-            if (!((all & ~kept) >> lane & 1)) continue;
-            dropped += kind == 0;
-            for (const LaneAnswer& answer : expected)
-              EXPECT_NE(answer.lane, lane) << "a lane the scalar test hits was dropped: offset " << offset << " size "
-                                           << size << " ulps " << ulps << " cosine " << cosine;
-          }
-          if (kind == 0 && ulps == 256 && leaving && cosine >= 0.05f && offset >= 1.f && relativeSize <= 1e-2f &&
-              ((all >> start) & 1)) {
+          const DropOutcome o = dropOutcome(block, wr, kind, expected,
+                                            "offset " + std::to_string(offset) + " size " + std::to_string(size) +
+                                                " ulps " + std::to_string(ulps) + " cosine " + std::to_string(cosine));
+          if (kind != 0) continue;
+          dropped += size_t(__builtin_popcount(unsigned(o.dropped())));
+          if (ulps == 256 && leaving && cosine >= 0.05f && offset >= 1.f && relativeSize <= 1e-2f && ((o.all >> start) & 1)) {
             ++offsetStarts;
-            offsetStartsDropped += (all & ~kept) >> start & 1;
+            offsetStartsDropped += o.dropped() >> start & 1;
           }
         }
         expectEveryLaneTypeAnswers(block, ray, expected,
@@ -290,6 +304,140 @@ TEST(TriangleBlockLeaf, LanesBehindTheOriginAreDroppedOnlyWhenTheScalarTestRejec
   EXPECT_GT(dropped, 1000u);
   ASSERT_GT(offsetStarts, 50u);
   EXPECT_GE(double(offsetStartsDropped), 0.9 * double(offsetStarts)) << offsetStartsDropped << " of " << offsetStarts;
+}
+
+// Rays whose segment starts ahead of their origin (tnear > 0): lanes whose hit certainly lies before
+// tnear are dropped in float (certainlyBeforeNearLanes). tnear placed around the hit distance of a
+// lane the ray crosses, from a sixteenth below it to a sixteenth above, down to one ulp either
+// side, near and far from the coordinate origin, small and large triangles, flat blocks under
+// grazing rays, directions of any length:
+// every dropped lane is one the scalar test (with that tnear) rejects, every lane type answers as it
+// does, and lanes whose hit lies a sixteenth or more before tnear are dropped nearly always.
+TEST(TriangleBlockLeaf, LanesBeforeTnearAreDroppedOnlyWhenTheScalarTestRejectsThem) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  size_t compared = 0, dropped = 0, wellBefore = 0, wellBeforeDropped = 0;
+  const float relativeNear[] = {-0x1p-4f, -0x1p-10f, -0x1p-20f, 0.f, 0x1p-20f, 0x1p-10f, 0x1p-4f, 1.f};
+  for (float offset : {0.f, 10.f, 1e4f, 1e6f})
+    for (float relativeSize : {1e-4f, 1e-2f, 1.f})
+      for (int trial = 0; trial < 150; ++trial) {
+        const float size = relativeSize * std::max(offset, 1.f);
+        const Vec3f center = randomUnit(rng) * offset;
+        // Every third block lies flat (z within a thousandth of its size) under a grazing ray.
+        const bool grazing = trial % 3 == 0;
+        const Vec3f flat{1.f, 1.f, grazing ? 1e-3f : 1.f};
+        const auto vertex = [&] {
+          const Vec3f d = randomUnit(rng) * size;
+          return center + Vec3f{d.x * flat.x, d.y * flat.y, d.z * flat.z};
+        };
+        StoredTriangle tris[4];
+        for (StoredTriangle& tri : tris) tri.v0 = vertex(), tri.v1 = vertex(), tri.v2 = vertex();
+        TriangleBlock4 block;
+        block.fill(tris, 0, 4);
+        Ray ray;
+        const float length = 0.01f + 100.f * unit(rng);  // tnear counts in direction lengths
+        Vec3f toward = randomUnit(rng);
+        if (grazing) {
+          const float slope = trial % 2 ? 0.05f : 0.005f;
+          toward = Vec3f{toward.x, toward.y, 0.f};
+          const float across = std::sqrt(dot(toward, toward));
+          if (!(across > 0.f)) continue;
+          toward = toward * (1.f / across) + Vec3f{0.f, 0.f, -slope};
+        }
+        ray.dir = toward * length;
+        const Vec3f aside = randomUnit(rng) * (0.3f * size);  // not off the flat block's plane
+        ray.org = center - toward * (size * (1.f + 4.f * unit(rng))) + Vec3f{aside.x, aside.y, grazing ? 0.f : aside.z};
+        ray.tfar = std::numeric_limits<float>::infinity();
+        const std::vector<LaneAnswer> fromOrigin = scalarTestAnswers(tris, ray);
+        if (fromOrigin.empty()) continue;
+        const float hitT = fromOrigin[size_t(trial) % fromOrigin.size()].hit.t;
+        std::vector<float> nears;
+        for (float relative : relativeNear) nears.push_back(hitT * (1.f + relative));
+        nears.push_back(std::nextafter(hitT, std::numeric_limits<float>::infinity()));
+        for (int ulps = 1; ulps <= 64; ulps *= 4) {  // just below the hit
+          float below = hitT;
+          for (int k = 0; k < ulps; ++k) below = nextFloatDown(below);
+          nears.push_back(below);
+        }
+        for (float tnear : nears) {
+          if (!(tnear > 0.f)) continue;
+          ray.tnear = tnear;
+          const WatertightRay wr(ray);
+          const std::vector<LaneAnswer> expected = scalarTestAnswers(tris, ray);
+          for (int kind = 0; kind < 2; ++kind) {
+            const DropOutcome o = dropOutcome(block, wr, kind, expected,
+                                              "offset " + std::to_string(offset) + " size " + std::to_string(size) +
+                                                  " tnear " + std::to_string(tnear));
+            if (kind != 0) continue;
+            dropped += size_t(__builtin_popcount(unsigned(o.dropped())));
+            for (const LaneAnswer& answer : fromOrigin) {
+              if (!(answer.hit.t * (1.f + 0x1p-4f) <= tnear) || !((o.all >> answer.lane) & 1)) continue;
+              ++wellBefore;
+              wellBeforeDropped += o.dropped() >> answer.lane & 1;
+            }
+          }
+          expectEveryLaneTypeAnswers(block, ray, expected,
+                                     "offset " + std::to_string(offset) + " tnear " + std::to_string(tnear));
+          ++compared;
+        }
+      }
+  std::printf("compared %zu, dropped %zu, hits a sixteenth or more before tnear %zu (dropped %zu)\n", compared, dropped,
+              wellBefore, wellBeforeDropped);
+  EXPECT_GT(compared, 5000u);
+  EXPECT_GT(dropped, 1000u);
+  ASSERT_GT(wellBefore, 1000u);
+  EXPECT_GE(double(wellBeforeDropped), 0.9 * double(wellBefore)) << wellBeforeDropped << " of " << wellBefore;
+}
+
+// Shadow rays as a renderer casts them: from a hit point on the triangle (not offset), towards a
+// light, with tnear a thousandth of the way there. The start triangle lies before tnear and is
+// dropped in float (certainlyBeforeNearLanes) wherever the ray leaves the surface at a fair angle;
+// no lane the scalar test hits is dropped.
+TEST(TriangleBlockLeaf, ShadowRaysDropTheirStartTriangleBeforeTheSecondHalf) {
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  size_t starts = 0, startsDropped = 0;
+  for (float offset : {0.f, 1.f, 100.f, 1e4f, 1e6f})
+    for (float relativeSize : {1e-4f, 1e-2f, 1.f})
+      for (int trial = 0; trial < 200; ++trial) {
+        const float size = relativeSize * std::max(offset, 1.f);
+        const Vec3f center = randomUnit(rng) * offset;
+        StoredTriangle tris[4];
+        const Vec3f a = center + randomUnit(rng) * size, b = center + randomUnit(rng) * size,
+                    c = center + randomUnit(rng) * size;
+        tris[0].v0 = a, tris[0].v1 = b, tris[0].v2 = c;
+        for (int lane = 1; lane < 4; ++lane)  // neighbours across the start triangle's edges
+          tris[lane].v0 = lane == 2 ? c : b, tris[lane].v1 = lane == 2 ? b : a,
+          tris[lane].v2 = center + randomUnit(rng) * size;
+        TriangleBlock4 block;
+        block.fill(tris, 0, 4);
+        const Vec3f normal = cross(b - a, c - a);
+        const float normalLength = std::sqrt(dot(normal, normal));
+        if (!(normalLength > 0.f)) continue;
+        const Vec3f n = normal * (1.f / normalLength);
+        float w1 = unit(rng), w2 = unit(rng);
+        if (w1 + w2 > 1.f) w1 = 1.f - w1, w2 = 1.f - w2;
+        Vec3f side = cross(n, randomUnit(rng));
+        const float sideLength = std::sqrt(dot(side, side));
+        if (!(sideLength > 0.f)) continue;
+        side = side * (1.f / sideLength);
+        const float cosine = 0.5f + 0.5f * unit(rng);
+        const Vec3f toLight = (n * cosine + side * std::sqrt(1.f - cosine * cosine)) * (size * (2.f + 100.f * unit(rng)));
+        Ray ray;
+        ray.org = a + (b - a) * w1 + (c - a) * w2;
+        ray.dir = toLight;
+        ray.tnear = 1e-3f;
+        ray.tfar = 1.f;
+        const std::vector<LaneAnswer> expected = scalarTestAnswers(tris, ray);
+        const DropOutcome o = dropOutcome(block, WatertightRay(ray), 1, expected, "shadow ray, offset " + std::to_string(offset));
+        if (o.all & 1) {
+          ++starts;
+          startsDropped += o.dropped() & 1;
+        }
+        expectEveryLaneTypeAnswers(block, ray, expected, "shadow ray, offset " + std::to_string(offset));
+      }
+  ASSERT_GT(starts, 500u);
+  EXPECT_GE(double(startsDropped), 0.95 * double(starts)) << startsDropped << " of " << starts;
 }
 
 }  // namespace
