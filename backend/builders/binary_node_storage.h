@@ -14,7 +14,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "builders/prim_ref.h"
 #include "bvh/binary_bvh.h"
+#include "memory/huge_pages.h"
 
 namespace obvh {
 
@@ -41,5 +43,19 @@ class BinaryNodeStorage {
   std::unique_ptr<unsigned char[]> bytes_;  // new[] of bytes: not written, so no page touched
   std::atomic<uint32_t> claimed_{1};
 };
+
+// The frame of a recursive builder's run: buildFromRoot(nodes) makes every node of the tree from the
+// root (index 0) down in a fresh storage for refs.size() primitives; out then takes the nodes, and
+// the references' order as the builder left it becomes out.primIndices (leaves index ranges of it).
+template <typename BuildFromRoot>
+void buildIntoBinaryBvh(const PrimRefs& refs, BinaryBvh& out, BuildFromRoot&& buildFromRoot) {
+  const size_t n = refs.size();
+  BinaryNodeStorage nodes(n);
+  buildFromRoot(nodes);
+  nodes.copyOut(out.nodes);
+  reserveWithHugePages(out.primIndices, n);
+  out.primIndices.resize(n);
+  for (size_t i = 0; i < n; ++i) out.primIndices[i] = refs[i].index;
+}
 
 }  // namespace obvh

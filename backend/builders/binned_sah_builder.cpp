@@ -191,14 +191,11 @@ class BinnedSahBuilder {
     out_.nodes.clear();
     out_.primIndices.clear();
     if (n == 0) return;
-    BinaryNodeStorage nodes(n);
-    nodes_ = &nodes;
-    buildNode(0, 0, n, rangeInfo(0, n), 0, Scratch{});
-    nodes.copyOut(out_.nodes);
-    nodes_ = nullptr;
-    reserveWithHugePages(out_.primIndices, n);
-    out_.primIndices.resize(n);
-    for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
+    buildIntoBinaryBvh(refs_, out_, [&](BinaryNodeStorage& nodes) {
+      nodes_ = &nodes;
+      buildNode(0, 0, n, rangeInfo(0, n), 0, Scratch{});
+      nodes_ = nullptr;
+    });
   }
 
  private:

@@ -49,14 +49,11 @@ class DistanceSahBuilder {
       : refs_(refs), options_(options), alpha_(std::clamp(double(options.distanceAlpha), 0.0, 1.0)), out_(out) {}
 
   void run() {
-    const size_t n = refs_.size();
-    BinaryNodeStorage nodes(n);
-    nodes_ = &nodes;
-    build(0, 0, n, 0);
-    nodes.copyOut(out_.nodes);
-    nodes_ = nullptr;
-    out_.primIndices.resize(n);
-    for (size_t i = 0; i < n; ++i) out_.primIndices[i] = refs_[i].index;
+    buildIntoBinaryBvh(refs_, out_, [&](BinaryNodeStorage& nodes) {
+      nodes_ = &nodes;
+      build(0, 0, refs_.size(), 0);
+      nodes_ = nullptr;
+    });
   }
 
  private:
