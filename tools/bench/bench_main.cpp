@@ -105,11 +105,9 @@ Options parseOptions(int argc, char** argv) {
 // One row of the table: a ray set traced through one query API, with the intersect context's
 // coherence hint an application would give it (Embree's documentation: primary visibility and hard
 // shadows are coherent workloads; rtcInitIntersectContext's default says incoherent).
-enum class Query { Intersect1, Intersect8, Intersect8OneSlot, Intersect1M, Occluded1, Occluded8, Occluded1M };
-bool isOcclusion(Query q) { return q == Query::Occluded1 || q == Query::Occluded8 || q == Query::Occluded1M; }
 struct Workload {
   const char* name;
-  Query query;
+  TracedQuery query;
   const std::vector<RTCRay>* rays;
   RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
 };
@@ -155,19 +153,8 @@ double refitMilliseconds(const RtcLibrary& lib, RTCDevice device, const SceneDat
 
 // One timed pass of the workload; its answers go to r when r is given. Returns Mrays/s.
 double tracePass(const LibraryRun& run, const Workload& w, Result* r) {
-  RTCScene scene = run.scene->scene();
-  std::vector<RTCRayHit>* hits = r ? &r->hits : nullptr;
-  std::vector<RTCRay>* rays = r ? &r->rays : nullptr;
-  switch (w.query) {
-    case Query::Intersect1: return traceIntersectMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
-    case Query::Intersect8: return traceIntersect8Mrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
-    case Query::Intersect8OneSlot: return traceIntersect8OneSlotMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
-    case Query::Occluded1: return traceOccludedMrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
-    case Query::Occluded8: return traceOccluded8Mrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
-    case Query::Intersect1M: return traceIntersect1MMrays(*run.lib, scene, *w.rays, 1, hits, w.contextFlags);
-    case Query::Occluded1M: return traceOccluded1MMrays(*run.lib, scene, *w.rays, 1, rays, w.contextFlags);
-  }
-  return 0.0;
+  return traceQueryMrays(*run.lib, run.scene->scene(), w.query, *w.rays, w.contextFlags, r ? &r->hits : nullptr,
+                         r ? &r->rays : nullptr);
 }
 
 // The libraries take turns, pass by pass, so that the shared machine's slow and fast spells fall
@@ -339,28 +326,28 @@ int main(int argc, char** argv) {
     for (int k = 0; k < 3; ++k) source[k] = options.hasSource ? options.source[k] : 0.5f * (box.lower[k] + box.upper[k]);
     const std::vector<RTCRay> fromSource = pointSourceRays(source, options.randomRays, 4242u);
     std::vector<Workload> workloads = {
-        {"primary perspective", Query::Intersect1, &perspective, kCoherent},
-        {"primary perspective, no coherence hint", Query::Intersect1, &perspective},
-        {"primary perspective, packets of 8", Query::Intersect8, &perspective, kCoherent},
-        {"primary perspective, packets of 8, no coherence hint", Query::Intersect8, &perspective},
-        {"primary perspective, packets of 8 from one slot", Query::Intersect8OneSlot, &perspective, kCoherent},
-        {"primary perspective, streams of 64 (rtcIntersect1M)", Query::Intersect1M, &perspective, kCoherent},
-        {"primary orthographic", Query::Intersect1, &orthographic, kCoherent},
-        {"primary orthographic, packets of 8", Query::Intersect8, &orthographic, kCoherent},
-        {"random (incoherent)", Query::Intersect1, &random},
-        {"from a point source", Query::Intersect1, &fromSource}};
+        {"primary perspective", TracedQuery::Intersect1, &perspective, kCoherent},
+        {"primary perspective, no coherence hint", TracedQuery::Intersect1, &perspective},
+        {"primary perspective, packets of 8", TracedQuery::Intersect8, &perspective, kCoherent},
+        {"primary perspective, packets of 8, no coherence hint", TracedQuery::Intersect8, &perspective},
+        {"primary perspective, packets of 8 from one slot", TracedQuery::Intersect8OneSlot, &perspective, kCoherent},
+        {"primary perspective, streams of 64 (rtcIntersect1M)", TracedQuery::Intersect1M, &perspective, kCoherent},
+        {"primary orthographic", TracedQuery::Intersect1, &orthographic, kCoherent},
+        {"primary orthographic, packets of 8", TracedQuery::Intersect8, &orthographic, kCoherent},
+        {"random (incoherent)", TracedQuery::Intersect1, &random},
+        {"from a point source", TracedQuery::Intersect1, &fromSource}};
     for (const Workload& w : workloads) traceInTurns(runs, w, options.runs);
     // Secondary rays start from Embree's primary hits so both libraries answer the very same rays.
     const std::vector<RTCRayHit>& embreePrimary = runs[0].results[0].hits;
     const std::vector<RTCRay> shadow = shadowRaysTowardsSceneLight(perspective, embreePrimary, box);
     const std::vector<RTCRay> diffuse = diffuseBounceRays(embreePrimary, 777u);
     const size_t firstSecondary = workloads.size();
-    workloads.push_back({"diffuse bounce", Query::Intersect1, &diffuse});
-    workloads.push_back({"shadow", Query::Occluded1, &shadow, kCoherent});
-    workloads.push_back({"shadow, no coherence hint", Query::Occluded1, &shadow});
-    workloads.push_back({"shadow, packets of 8", Query::Occluded8, &shadow, kCoherent});
-    workloads.push_back({"shadow, packets of 8, no coherence hint", Query::Occluded8, &shadow});
-    workloads.push_back({"shadow, streams of 64 (rtcOccluded1M)", Query::Occluded1M, &shadow, kCoherent});
+    workloads.push_back({"diffuse bounce", TracedQuery::Intersect1, &diffuse});
+    workloads.push_back({"shadow", TracedQuery::Occluded1, &shadow, kCoherent});
+    workloads.push_back({"shadow, no coherence hint", TracedQuery::Occluded1, &shadow});
+    workloads.push_back({"shadow, packets of 8", TracedQuery::Occluded8, &shadow, kCoherent});
+    workloads.push_back({"shadow, packets of 8, no coherence hint", TracedQuery::Occluded8, &shadow});
+    workloads.push_back({"shadow, streams of 64 (rtcOccluded1M)", TracedQuery::Occluded1M, &shadow, kCoherent});
     for (size_t k = firstSecondary; k < workloads.size(); ++k) traceInTurns(runs, workloads[k], options.runs);
     const size_t shadowRow = firstSecondary + 1;
 

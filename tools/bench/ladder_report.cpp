@@ -88,23 +88,13 @@ const char* qualityName(RTCBuildQuality q) {
   return q == RTC_BUILD_QUALITY_LOW ? "LOW" : q == RTC_BUILD_QUALITY_HIGH ? "HIGH" : "MEDIUM";
 }
 
-// How a workload's rays are traced: the API and the intersect context's coherence hint.
-enum class LadderQuery { Intersect1, Occluded1, Intersect8 };
+// A workload: its rays, the API that traces them and the intersect context's coherence hint.
 struct Workload {
   const char* name;
-  LadderQuery query;
+  TracedQuery query;
   std::vector<RTCRay> rays;
   RTCIntersectContextFlags flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
 };
-
-double traceWorkload(const RtcLibrary& lib, RTCScene scene, const Workload& w) {
-  switch (w.query) {
-    case LadderQuery::Intersect1: return traceIntersectMrays(lib, scene, w.rays, 1, nullptr, w.flags);
-    case LadderQuery::Occluded1: return traceOccludedMrays(lib, scene, w.rays, 1, nullptr, w.flags);
-    case LadderQuery::Intersect8: return traceIntersect8Mrays(lib, scene, w.rays, 1, nullptr, w.flags);
-  }
-  return 0.0;
-}
 
 // A device and the quality its scenes are built at. The ladder's contenders are such pairs; each
 // second one is compared with the one before it.
@@ -161,23 +151,23 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
   embree.rtcGetSceneBounds(reference.scene->scene(), &b);
   const SceneBox box{{b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}};
   std::vector<Workload> workloads;
-  workloads.push_back({"primary perspective", LadderQuery::Intersect1, perspectiveRays(box, 1024, 768)});
-  workloads.push_back({"random (incoherent)", LadderQuery::Intersect1, randomRays(box, options.randomRays, 12345u)});
+  workloads.push_back({"primary perspective", TracedQuery::Intersect1, perspectiveRays(box, 1024, 768)});
+  workloads.push_back({"random (incoherent)", TracedQuery::Intersect1, randomRays(box, options.randomRays, 12345u)});
   const float centre[3] = {0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z)};
-  workloads.push_back({"from a point source", LadderQuery::Intersect1, pointSourceRays(centre, options.randomRays, 4242u)});
+  workloads.push_back({"from a point source", TracedQuery::Intersect1, pointSourceRays(centre, options.randomRays, 4242u)});
   {
     // Shadow rays and diffuse bounces from Embree's hits of the primary rays at the first quality:
     // the same rays for all.
     std::vector<RTCRayHit> hits;
     traceIntersectMrays(embree, reference.scene->scene(), workloads[0].rays, 1, &hits);
-    workloads.push_back({"shadow (occluded)", LadderQuery::Occluded1, shadowRaysTowardsSceneLight(workloads[0].rays, hits, box)});
+    workloads.push_back({"shadow (occluded)", TracedQuery::Occluded1, shadowRaysTowardsSceneLight(workloads[0].rays, hits, box)});
     // The rest of the floor rows of the main bench (issue 4): camera and shadow rays with Embree's
     // coherence hint, diffuse bounces, and coherent rtcIntersect8 packets, with the main bench's rays.
     constexpr RTCIntersectContextFlags kCoherent = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    workloads.push_back({"camera, hint", LadderQuery::Intersect1, workloads[0].rays, kCoherent});
-    workloads.push_back({"shadow, hint", LadderQuery::Occluded1, workloads[3].rays, kCoherent});
-    workloads.push_back({"diffuse bounce", LadderQuery::Intersect1, diffuseBounceRays(hits, 777u)});
-    workloads.push_back({"packets of 8, hint", LadderQuery::Intersect8, workloads[0].rays, kCoherent});
+    workloads.push_back({"camera, hint", TracedQuery::Intersect1, workloads[0].rays, kCoherent});
+    workloads.push_back({"shadow, hint", TracedQuery::Occluded1, workloads[3].rays, kCoherent});
+    workloads.push_back({"diffuse bounce", TracedQuery::Intersect1, diffuseBounceRays(hits, 777u)});
+    workloads.push_back({"packets of 8, hint", TracedQuery::Intersect8, workloads[0].rays, kCoherent});
   }
 
   for (Contender& c : contenders) c.mrays.assign(workloads.size(), {});
@@ -186,7 +176,7 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
       for (size_t k = 0; k < contenders.size(); ++k) {
         Contender& c = contenders[(k + size_t(round)) % contenders.size()];
         const RTCScene s = c.scene->scene();
-        c.mrays[w].push_back(traceWorkload(*c.d.lib, s, workloads[w]));
+        c.mrays[w].push_back(traceQueryMrays(*c.d.lib, s, workloads[w].query, workloads[w].rays, workloads[w].flags));
       }
 
   std::printf("\n%s, %zu primitives; build ms:", scene.name.c_str(), scene.primitiveCount());

@@ -209,4 +209,19 @@ double traceOccluded1MMrays(const RtcLibrary& lib, RTCScene scene, const std::ve
   });
 }
 
+double traceQueryMrays(const RtcLibrary& lib, RTCScene scene, TracedQuery query, const std::vector<RTCRay>& rays,
+                       RTCIntersectContextFlags contextFlags, std::vector<RTCRayHit>* hits,
+                       std::vector<RTCRay>* occluded) {
+  switch (query) {
+    case TracedQuery::Intersect1: return traceIntersectMrays(lib, scene, rays, 1, hits, contextFlags);
+    case TracedQuery::Intersect8: return traceIntersect8Mrays(lib, scene, rays, 1, hits, contextFlags);
+    case TracedQuery::Intersect8OneSlot: return traceIntersect8OneSlotMrays(lib, scene, rays, 1, hits, contextFlags);
+    case TracedQuery::Intersect1M: return traceIntersect1MMrays(lib, scene, rays, 1, hits, contextFlags);
+    case TracedQuery::Occluded1: return traceOccludedMrays(lib, scene, rays, 1, occluded, contextFlags);
+    case TracedQuery::Occluded8: return traceOccluded8Mrays(lib, scene, rays, 1, occluded, contextFlags);
+    case TracedQuery::Occluded1M: return traceOccluded1MMrays(lib, scene, rays, 1, occluded, contextFlags);
+  }
+  return 0.0;
+}
+
 }  // namespace obvh::tools

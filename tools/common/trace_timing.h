@@ -56,4 +56,17 @@ double traceOccluded1MMrays(const RtcLibrary& lib, RTCScene scene, const std::ve
                             std::vector<RTCRay>* answers = nullptr,
                             RTCIntersectContextFlags contextFlags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
 
+// The query APIs the benchmarks time, each through the function above that traces it.
+enum class TracedQuery { Intersect1, Intersect8, Intersect8OneSlot, Intersect1M, Occluded1, Occluded8, Occluded1M };
+inline bool isOcclusion(TracedQuery q) {
+  return q == TracedQuery::Occluded1 || q == TracedQuery::Occluded8 || q == TracedQuery::Occluded1M;
+}
+
+// One timed pass of `query` over rays; returns Mrays/s. hits receives an intersect query's records,
+// occluded an occlusion query's rays as it left them (either may be null, and the other kind's is
+// ignored).
+double traceQueryMrays(const RtcLibrary& lib, RTCScene scene, TracedQuery query, const std::vector<RTCRay>& rays,
+                       RTCIntersectContextFlags contextFlags, std::vector<RTCRayHit>* hits = nullptr,
+                       std::vector<RTCRay>* occluded = nullptr);
+
 }  // namespace obvh::tools
