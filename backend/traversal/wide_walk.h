@@ -14,6 +14,7 @@
 // Included only by the per-ISA translation units, inside their target region, as its callers are.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "bvh/wide_bvh.h"
@@ -36,7 +37,7 @@ namespace obvh {
 // every ray or after checking the previous ray, so they guess only for rays the application declares
 // coherent (QueryState::coherent): camera rays 3-10% faster, shadow rays to one light 5-15%.
 template <int N>
-[[gnu::always_inline]] inline uint32_t childOfPredictedLane(const uint32_t* child, int lane) {
+[[gnu::always_inline]] inline uint32_t childOfPredictedLane(const uint32_t* child, size_t lane) {
   static_assert(N == 4 || N == 8);
   // Two switches of four, not one of eight: GCC compiles the one of eight into a jump table,
   // whose single indirect branch was guessed no better than this tree of compares (README,
@@ -59,6 +60,16 @@ template <int N>
   return child[3];
 }
 
+// The lowest lane of a non-empty mask, counted straight into a 64-bit register: GCC sign-extends
+// __builtin_ctz's int (a movslq, whatever the casts) before it indexes the node's child codes, one
+// more step on the chain from a node's test to the next node's loads. tzcnt runs as bsf on CPUs
+// without BMI1, which counts a non-empty mask the same.
+[[gnu::always_inline]] inline size_t lowestLane(int mask) {
+  size_t lane;
+  asm("tzcnt %1, %0" : "=r"(lane) : "r"(uint64_t(unsigned(mask))) : "cc");
+  return lane;
+}
+
 // The child a node's walk goes to next, of the entered children `mask` (not empty) with their
 // entry distances; the others are pushed, farthest first. See walkWideTree for the template
 // parameters.
@@ -66,15 +77,15 @@ template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes
 [[gnu::always_inline]] inline uint32_t nextChildPushingOthers(const Nodes& nodes, const uint32_t* child, int mask,
                                                               const float entry[N], Stack* stack, int& top) {
   if ((mask & (mask - 1)) == 0) {  // one child entered: no sorting, no stack
-    const int lane = __builtin_ctz(unsigned(mask));
+    const size_t lane = lowestLane(mask);
     return kPredictLanes ? childOfPredictedLane<N>(child, lane) : child[lane];
   }
   if (!kSorted && !kClosest) {
-    const int first = __builtin_ctz(unsigned(mask));
+    const size_t first = lowestLane(mask);
     const uint32_t next = kPredictLanes ? childOfPredictedLane<N>(child, first) : child[first];
     mask &= mask - 1;
     while (mask) {
-      const int lane = __builtin_ctz(unsigned(mask));
+      const size_t lane = lowestLane(mask);
       mask &= mask - 1;
       nodes.prefetch(child[lane]);
       stack[top++] = {child[lane], entry[lane]};
@@ -82,7 +93,7 @@ template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes
     return next;
   }
   if (!kSorted) {  // lane order: the lowest lane now, the others pushed highest first
-    const uint32_t next = child[__builtin_ctz(unsigned(mask))];
+    const uint32_t next = child[lowestLane(mask)];
     mask &= mask - 1;
     while (mask) {
       const int lane = 31 - __builtin_clz(unsigned(mask));
@@ -94,12 +105,12 @@ template <int N, bool kClosest, bool kSorted, bool kPredictLanes, typename Nodes
   }
   // Two children, the most common case after one: the nearer is visited first (the lower lane
   // on equal distances, as in the general sort below).
-  const int first = __builtin_ctz(unsigned(mask));
+  const size_t first = lowestLane(mask);
   const int rest = mask & (mask - 1);
   if ((rest & (rest - 1)) == 0) {
-    const int second = __builtin_ctz(unsigned(rest));
+    const size_t second = lowestLane(rest);
     const bool firstNearer = entry[first] <= entry[second];
-    const int nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
+    const size_t nearLane = firstNearer ? first : second, farLane = firstNearer ? second : first;
     // The predicted walk prefetches neither: it loads the child it guesses at once (that prefetch
     // would only cost the instructions: bunny camera rays 2% faster without it, motorBike and
     // dragon the same), and the coherent rays it serves mostly drop the farther child at its pop,
