@@ -21,6 +21,7 @@
 
 #include "accuracy_report.h"
 #include "ladder_report.h"
+#include "probe_report.h"
 #include "build_quality.h"
 #include "build_statistics.h"
 #include "hit_compare.h"
@@ -59,6 +60,7 @@ struct Options {
                "[--out DIR] [--quality low|medium|high] [--threads N] [--source X,Y,Z]\n"
                "       obvh_bench accuracy --help   (what each accuracy mode costs in time)\n"
                "       obvh_bench ladder --help     (what a build quality buys in trace speed)\n"
+               "       obvh_bench probe --help      (one workload, one library, a loop for profilers)\n"
                "  Traces the scene with Debian's Embree and with obvh in one run and compares them.\n"
                "  --source: start of the point-source (transmitter) rays; default: the centre of the scene.\n"
                "  obvh's devices also take OBVH_CONFIG, e.g. OBVH_CONFIG=builder=kmeans.\n"
@@ -267,6 +269,7 @@ void printCount(const char* name, const MismatchCount& c) {
 int main(int argc, char** argv) {
   if (argc > 1 && std::strcmp(argv[1], "accuracy") == 0) return runAccuracyReport(argc - 1, argv + 1);
   if (argc > 1 && std::strcmp(argv[1], "ladder") == 0) return runLadderReport(argc - 1, argv + 1);
+  if (argc > 1 && std::strcmp(argv[1], "probe") == 0) return runProbeReport(argc - 1, argv + 1);
   const Options options = parseOptions(argc, argv);
   try {
     const SceneData scene = obvh::render::loadTriangleScene(options.scene);

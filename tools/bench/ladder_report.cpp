@@ -12,7 +12,7 @@
 #include "build_quality.h"
 #include "triangle_scene_file.h"
 #include "command_line.h"
-#include "ray_generation.h"
+#include "ladder_workloads.h"
 #include "rtc_library.h"
 #include "scene_data.h"
 #include "trace_timing.h"
@@ -88,14 +88,6 @@ const char* qualityName(RTCBuildQuality q) {
   return q == RTC_BUILD_QUALITY_LOW ? "LOW" : q == RTC_BUILD_QUALITY_HIGH ? "HIGH" : "MEDIUM";
 }
 
-// A workload: its rays, the API that traces them and the intersect context's coherence hint.
-struct Workload {
-  const char* name;
-  TracedQuery query;
-  std::vector<RTCRay> rays;
-  RTCIntersectContextFlags flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-};
-
 // A device and the quality its scenes are built at. The ladder's contenders are such pairs; each
 // second one is compared with the one before it.
 struct DeviceUnderTest {
@@ -146,29 +138,9 @@ void runScene(const SceneData& scene, const LadderOptions& options, const RtcLib
       throw std::runtime_error(c.d.lib->label + ": committing " + scene.name + " failed");
   }
 
-  RTCBounds b;
+  // Shadow rays and diffuse bounces from Embree's hits of the primary rays at the first quality.
   const Contender& reference = *std::find_if(contenders.begin(), contenders.end(), [&](const Contender& c) { return c.d.lib == &embree; });
-  embree.rtcGetSceneBounds(reference.scene->scene(), &b);
-  const SceneBox box{{b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}};
-  std::vector<Workload> workloads;
-  workloads.push_back({"primary perspective", TracedQuery::Intersect1, perspectiveRays(box, 1024, 768)});
-  workloads.push_back({"random (incoherent)", TracedQuery::Intersect1, randomRays(box, options.randomRays, 12345u)});
-  const float centre[3] = {0.5f * (b.lower_x + b.upper_x), 0.5f * (b.lower_y + b.upper_y), 0.5f * (b.lower_z + b.upper_z)};
-  workloads.push_back({"from a point source", TracedQuery::Intersect1, pointSourceRays(centre, options.randomRays, 4242u)});
-  {
-    // Shadow rays and diffuse bounces from Embree's hits of the primary rays at the first quality:
-    // the same rays for all.
-    std::vector<RTCRayHit> hits;
-    traceIntersectMrays(embree, reference.scene->scene(), workloads[0].rays, 1, &hits);
-    workloads.push_back({"shadow (occluded)", TracedQuery::Occluded1, shadowRaysTowardsSceneLight(workloads[0].rays, hits, box)});
-    // The rest of the floor rows of the main bench (issue 4): camera and shadow rays with Embree's
-    // coherence hint, diffuse bounces, and coherent rtcIntersect8 packets, with the main bench's rays.
-    constexpr RTCIntersectContextFlags kCoherent = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    workloads.push_back({"camera, hint", TracedQuery::Intersect1, workloads[0].rays, kCoherent});
-    workloads.push_back({"shadow, hint", TracedQuery::Occluded1, workloads[3].rays, kCoherent});
-    workloads.push_back({"diffuse bounce", TracedQuery::Intersect1, diffuseBounceRays(hits, 777u)});
-    workloads.push_back({"packets of 8, hint", TracedQuery::Intersect8, workloads[0].rays, kCoherent});
-  }
+  const std::vector<Workload> workloads = ladderWorkloads(embree, reference.scene->scene(), options.randomRays);
 
   for (Contender& c : contenders) c.mrays.assign(workloads.size(), {});
   for (int round = 0; round < options.rounds; ++round)

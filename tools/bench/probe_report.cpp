@@ -1,0 +1,116 @@
+#include "probe_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "command_line.h"
+#include "ladder_workloads.h"
+#include "rtc_library.h"
+#include "scene_data.h"
+#include "trace_timing.h"
+#include "triangle_scene_file.h"
+
+namespace obvh::tools {
+namespace {
+
+struct ProbeOptions {
+  std::string library = "obvh";  // obvh, embree, or a path to a libembree3.so.3
+  std::string scene = "/usr/share/glmark2/models/bunny.obj";
+  std::string workload = "diffuse";
+  int repeat = 10;
+  size_t randomRays = 1 << 20;
+  std::string config;  // the device config after threads=1
+};
+
+[[noreturn]] void usage(const std::string& error) {
+  if (!error.empty()) std::fprintf(stderr, "obvh_bench probe: %s\n\n", error.c_str());
+  std::fprintf(stderr,
+               "usage: obvh_bench probe [--library obvh|embree|PATH] [--scene FILE] [--workload KEY] [--repeat N]\n"
+               "                        [--random-rays N] [--config DEVICE_CONFIG]\n"
+               "  Traces one of the ladder's workloads with one library on one thread, N times over (default\n"
+               "  10), and prints the best pass in Mrays/s: a steady loop for profilers. The passes run inside\n"
+               "  obvh::tools::traceProbeRepeats, so callgrind can count only them, e.g.\n"
+               "    valgrind --tool=callgrind --toggle-collect='*traceProbeRepeats*' obvh_bench probe --repeat 1\n"
+               "  --workload: primary, random, point, shadow, camera-hint, shadow-hint, diffuse (default),\n"
+               "  packets8-hint (the ladder's rows, the same rays).\n"
+               "  --library: obvh (the drop-in built beside this tool, default), embree (Debian's), or the\n"
+               "  path of another build's libembree3.so.3.\n"
+               "  --config: appended to the device config threads=1 (e.g. intersector=fast).\n");
+  std::exit(error.empty() ? 0 : 2);
+}
+
+ProbeOptions parse(int argc, char** argv) {
+  ProbeOptions o;
+  readFlagValuePairs(argc, argv, usage, [&](const std::string& arg, const std::string& value, auto positive) {
+    if (arg == "--library") o.library = value;
+    else if (arg == "--scene") o.scene = value;
+    else if (arg == "--workload") o.workload = value;
+    else if (arg == "--repeat") o.repeat = int(positive(100000));
+    else if (arg == "--random-rays") o.randomRays = size_t(positive(100000000));
+    else if (arg == "--config") o.config = value;
+    else usage("unknown option " + arg);
+  });
+  return o;
+}
+
+}  // namespace
+
+// Kept out of line under this name for callgrind's --toggle-collect. Returns the best pass's Mrays/s.
+[[gnu::noinline]] double traceProbeRepeats(const RtcLibrary& lib, RTCScene scene, const Workload& workload, int repeat) {
+  double best = 0;
+  for (int pass = 0; pass < repeat; ++pass)
+    best = std::max(best, traceQueryMrays(lib, scene, workload.query, workload.rays, workload.flags));
+  return best;
+}
+
+int runProbeReport(int argc, char** argv) {
+  const ProbeOptions options = parse(argc, argv);
+  try {
+    std::string error;
+    auto embree = RtcLibrary::open(referenceEmbreePath(), "embree", error);
+    if (!embree) throw std::runtime_error(error + " (install Debian's libembree-dev)");
+    std::unique_ptr<RtcLibrary> other;
+    const RtcLibrary* lib = embree.get();
+    if (options.library != "embree") {
+      const std::string path = options.library == "obvh" ? obvhDropInPath() : options.library;
+      other = RtcLibrary::open(path, options.library, error);
+      if (!other) throw std::runtime_error(error);
+      lib = other.get();
+    }
+    const SceneData data = obvh::render::loadTriangleScene(options.scene);
+    // Embree's scene seeds the secondary rays, as in the ladder.
+    RTCDevice embreeDevice = embree->rtcNewDevice("threads=1");
+    const std::string config = "threads=1" + (options.config.empty() ? "" : "," + options.config);
+    RTCDevice device = lib->rtcNewDevice(config.c_str());
+    if (!embreeDevice || !device) throw std::runtime_error("rtcNewDevice(\"" + config + "\") failed");
+    double mrays = 0;
+    size_t rays = 0;
+    {
+      const CommittedScene reference(*embree, embreeDevice, data);
+      const std::vector<Workload> workloads = ladderWorkloads(*embree, reference.scene(), options.randomRays);
+      const auto workload = std::find_if(workloads.begin(), workloads.end(),
+                                         [&](const Workload& w) { return options.workload == w.key; });
+      if (workload == workloads.end()) usage("unknown workload '" + options.workload + "'");
+      const CommittedScene traced(*lib, device, data);
+      if (lib->rtcGetDeviceError(device) != RTC_ERROR_NONE)
+        throw std::runtime_error(lib->label + ": committing " + data.name + " failed");
+      rays = workload->rays.size();
+      mrays = traceProbeRepeats(*lib, traced.scene(), *workload, options.repeat);
+    }
+    lib->rtcReleaseDevice(device);
+    embree->rtcReleaseDevice(embreeDevice);
+    std::printf("obvh_bench probe: %s, %s, %s: %zu rays, best of %d passes %.2f Mrays/s\n", lib->label.c_str(),
+                data.name.c_str(), options.workload.c_str(), rays, options.repeat, mrays);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "obvh_bench probe: %s\n", e.what());
+    return 2;
+  }
+}
+
+}  // namespace obvh::tools
