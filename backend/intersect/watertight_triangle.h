@@ -11,14 +11,24 @@
 
 namespace obvh {
 
+// The axes kx, ky that go with the dominant axis kz, by kz * 2 + (dir[kz] < 0): (kz + 1) % 3 and
+// (kx + 1) % 3, swapped for a negative dominant component (see WatertightRay's constructor).
+struct WatertightAxisPair {
+  int kx, ky;
+};
+inline constexpr WatertightAxisPair kWatertightOtherAxes[6] = {{1, 2}, {2, 1}, {2, 0}, {0, 2}, {0, 1}, {1, 0}};
+
 // Per-ray constants of the shear transform, computed once per ray.
+// The floats come first, in this order, and kx, ky adjacent, as watertightFramesOfLanes
+// (watertight_lanes.h) writes a lane group's frames: the seven floats by a transposed store, then
+// the axes.
 struct WatertightRay {
-  int kx = 0, ky = 1, kz = 2;
   float Sx = 0.f, Sy = 0.f, Sz = 1.f;
   Vec3f org;
   // tnear * |dir[kz]|: the start of the segment as a distance along kz, with which the block tests
   // drop in float the candidates that certainly lie before it (certainlyBeforeNearLanes).
   float nearAlongKz = 0.f;
+  int kx = 0, ky = 1, kz = 2;
 
   WatertightRay() = default;
   // Always inlined: a kernel whose inliner budget ran out called the one copy the linker keeps,
@@ -57,11 +67,7 @@ struct WatertightRay {
     // or), GCC kept the swap in vector registers: the set-up took 59 instructions, now 50
     // (callgrind, bunny: 9 fewer a camera ray that hits and a diffuse bounce). A table of bytes took
     // 2 more than this one of ints.
-    struct AxisPair {
-      int kx, ky;
-    };
-    static constexpr AxisPair kOtherAxes[6] = {{1, 2}, {2, 1}, {2, 0}, {0, 2}, {0, 1}, {1, 0}};
-    const AxisPair other = kOtherAxes[kz * 2 + int(dominant < 0.f)];
+    const WatertightAxisPair other = kWatertightOtherAxes[kz * 2 + int(dominant < 0.f)];
     w.kx = other.kx;
     w.ky = other.ky;
     w.kz = kz;

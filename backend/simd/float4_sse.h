@@ -29,6 +29,12 @@ struct Float4Sse {
     _MM_TRANSPOSE4_PS(a, b, c, d);
     out[0].v = a, out[1].v = b, out[2].v = c, out[3].v = d;
   }
+  // See FloatScalar::storeColumns.
+  static void storeColumns(const Float4Sse columns[4], float* p, size_t stride) {
+    __m128 a = columns[0].v, b = columns[1].v, c = columns[2].v, d = columns[3].v;
+    _MM_TRANSPOSE4_PS(a, b, c, d);
+    _mm_storeu_ps(p, a), _mm_storeu_ps(p + stride, b), _mm_storeu_ps(p + 2 * stride, c), _mm_storeu_ps(p + 3 * stride, d);
+  }
   // See FloatScalar::select.
   friend Float4Sse select(int mask, Float4Sse a, Float4Sse b) {
     const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);

@@ -91,10 +91,23 @@ struct Float8Avx {
   OBVH_AVX2 static void loadColumnsOf(const float* const rows[8], Float8Avx out[8]) {
     __m256 row[8];
     for (int i = 0; i < 8; ++i) row[i] = _mm256_loadu_ps(rows[i]);
+    transpose(row);
+    for (int c = 0; c < 8; ++c) out[c].v = row[c];
+  }
+  // See FloatScalar::storeColumns: the transpose of loadColumns, and so the same exchanges.
+  OBVH_AVX2 static void storeColumns(const Float8Avx columns[8], float* p, size_t stride) {
+    __m256 row[8];
+    for (int c = 0; c < 8; ++c) row[c] = columns[c].v;
+    transpose(row);
+    for (int i = 0; i < 8; ++i) _mm256_storeu_ps(p + size_t(i) * stride, row[i]);
+  }
+  // An 8x8 matrix in eight vectors, transposed: interleaved in pairs, then in fours, then halves
+  // exchanged.
+  OBVH_AVX2 static void transpose(__m256 m[8]) {
     __m256 pairs[8], fours[8];
     for (int i = 0; i < 8; i += 2) {
-      pairs[i] = _mm256_unpacklo_ps(row[i], row[i + 1]);      // columns 0, 1 | 4, 5 of rows i, i + 1
-      pairs[i + 1] = _mm256_unpackhi_ps(row[i], row[i + 1]);  // columns 2, 3 | 6, 7
+      pairs[i] = _mm256_unpacklo_ps(m[i], m[i + 1]);      // columns 0, 1 | 4, 5 of rows i, i + 1
+      pairs[i + 1] = _mm256_unpackhi_ps(m[i], m[i + 1]);  // columns 2, 3 | 6, 7
     }
     for (int i = 0; i < 8; i += 4) {
       fours[i] = _mm256_shuffle_ps(pairs[i], pairs[i + 2], _MM_SHUFFLE(1, 0, 1, 0));      // column 0 | 4
@@ -103,8 +116,8 @@ struct Float8Avx {
       fours[i + 3] = _mm256_shuffle_ps(pairs[i + 1], pairs[i + 3], _MM_SHUFFLE(3, 2, 3, 2));  // 3 | 7
     }
     for (int c = 0; c < 4; ++c) {
-      out[c].v = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x20);
-      out[c + 4].v = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x31);
+      m[c] = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x20);
+      m[c + 4] = _mm256_permute2f128_ps(fours[c], fours[c + 4], 0x31);
     }
   }
   // See FloatScalar::select.

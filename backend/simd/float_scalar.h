@@ -64,6 +64,12 @@ struct FloatScalar {
     for (int c = 0; c < N; ++c)
       for (int i = 0; i < N; ++i) out[c].v[i] = p[size_t(i) * stride + size_t(c)];
   }
+  // The inverse of loadColumns: p[i * stride + c] = columns[c] lane i (a transposed store, as of the
+  // leading fields of N structs).
+  static void storeColumns(const FloatScalar columns[N], float* p, size_t stride) {
+    for (int c = 0; c < N; ++c)
+      for (int i = 0; i < N; ++i) p[size_t(i) * stride + size_t(c)] = columns[c].v[i];
+  }
   // Lane i of a where bit i of mask is set, else b's.
   friend FloatScalar select(int mask, FloatScalar a, FloatScalar b) {
     FloatScalar r;

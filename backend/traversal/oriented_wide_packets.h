@@ -407,7 +407,7 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
   if (view.empty()) return 0;
   const uint32_t live = raysPassingGate<F4>(view, rays, active);
   if (live == 0) return 0;
-  PacketFrames f(live);
+  PacketFrames<FN> f(live);
   uint32_t found = 0;
   const auto blocksAlone = [&](uint32_t firstBlock, uint32_t blockCount, int r) {
     if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
@@ -415,8 +415,9 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
       found |= 1u << r;
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    f.prepare(rays, mask);
     found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
-        view.set, bvh.blocks.data(), firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
+        view.set, bvh.blocks.data(), firstBlock, blockCount, f.preparedFrames(), rays, hits, mask, state);
     return 0u;
   };
   const auto solo = [&](uint32_t node, uint32_t mask) {

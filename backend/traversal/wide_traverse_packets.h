@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "intersect/watertight_lanes.h"
 #include "memory/uninitialized_array.h"
 #include "traversal/triangle_block_pairs.h"
 #include "traversal/wide_traverse.h"
@@ -431,26 +432,41 @@ void traverseWidePacket(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays
 // The per-ray constants of a packet's active lanes. Rays with an empty segment (tnear > tfar, as
 // the unused lanes of a shadow packet often are) have already been dropped where the packet was
 // gathered (QueryDispatch's gatherLiveLanes; one that got here would enter no box, only cost
-// time): checking them again, ray by ray, was about 100 instructions a packet of eight. A ray's
-// triangle-test frame is made when a leaf it reaches first needs it. A ray that goes on alone
-// makes its box-test frame where it does, as a local the compiler keeps in registers: made for
-// every ray up front and kept in an array, packets traced 2-6% slower (paired probe).
+// time): checking them again, ray by ray, was about 100 instructions a packet of eight. The
+// triangle-test frames of a lane group's live rays are made together, as SIMD lanes
+// (watertightFramesOfLanes), when a leaf first needs one of them: a packet that reaches no leaf
+// makes none. A ray that goes on alone makes its box-test frame where it does, as a local the
+// compiler keeps in registers: made for every ray up front and kept in an array, packets traced
+// 2-6% slower (paired probe).
+template <typename FN>
 struct PacketFrames {
   uint32_t live = 0;
 
   explicit PacketFrames(uint32_t active) : live(active) {}
 
-  // Ray r's triangle-test frame, made when first asked for.
-  const WatertightRay& triangleFrame(const Ray* rays, int r) {
-    if (!((prepared_ >> r) & 1)) {
-      watertight_[r] = WatertightRay(rays[r]);
-      prepared_ |= 1u << r;
+  // Makes the triangle-test frames of the rays of `wanted` (live rays) that have none yet,
+  // together with those of their lane groups' other live rays. rays holds the whole lane group of
+  // every live ray, as for PacketLanes.
+  [[gnu::always_inline]] void prepare(const Ray* rays, uint32_t wanted) {
+    constexpr int kLanes = FN::kWidth;
+    constexpr uint32_t kGroup = (1u << kLanes) - 1;
+    for (uint32_t missing = wanted & ~prepared_; missing;) {
+      const int base = __builtin_ctz(missing) & ~(kLanes - 1);
+      const uint32_t group = ((live | missing) >> base) & kGroup;
+      watertightFramesOfLanes<FN>(rays + base, watertight_.data() + base, group);
+      prepared_ |= group << base;
+      missing &= ~(kGroup << base);
     }
+  }
+  // Ray r's triangle-test frame, made if it is not yet.
+  [[gnu::always_inline]] const WatertightRay& triangleFrame(const Ray* rays, int r) {
+    prepare(rays, 1u << r);
     return watertight_[r];
   }
-  // Ray r's frame on request, for the leaves' tests of several rays (triangle_block_pairs.h).
-  auto frameOf(const Ray* rays) {
-    return [this, rays](int r) -> const WatertightRay& { return triangleFrame(rays, r); };
+  // The frames of rays already prepared, for the leaves' tests of several rays
+  // (triangle_block_pairs.h).
+  auto preparedFrames() const {
+    return [this](int r) -> const WatertightRay& { return watertight_[r]; };
   }
 
  private:
@@ -477,7 +493,7 @@ using PairLanes = std::conditional_t<FN::kWidth == 8, FN, void>;
 template <typename FN, typename F4>
 uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, Ray* rays, Hit* hits,
                                         uint32_t active, const QueryState& state) {
-  PacketFrames f(active);
+  PacketFrames<FN> f(active);
   uint32_t found = 0;
   const auto closestAlone = [&](uint32_t start, int r) {
     const WideRayFrame<FN> frame(rays[r]);
@@ -493,12 +509,13 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     // check for candidates behind the origin, as the single-ray kernels for such rays do (bunny
     // coherent rtcIntersect8: 378 -> 374 instructions a ray, callgrind). One instantiation for
     // each form: a generic lambda instantiated for both took 5 instructions a ray more.
+    f.prepare(rays, mask);
     if (state.coherent)
       found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, false>(
-          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.preparedFrames(), rays, hits, mask, state);
     else
       found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
-          bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, hits, mask, state);
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.preparedFrames(), rays, hits, mask, state);
     return 0u;
   };
   const auto solo = [&](uint32_t node, uint32_t mask) {
@@ -512,7 +529,7 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
 template <typename FN, typename F4>
 uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, const Ray* rays, uint32_t active,
                                     const QueryState& state) {
-  PacketFrames f(active);
+  PacketFrames<FN> f(active);
   uint32_t occluded = 0;
   const auto anyAlone = [&](uint32_t start, int r) {
     bool found = false;
@@ -525,8 +542,9 @@ uint32_t intersectAnyWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh, con
     return found;
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
+    f.prepare(rays, mask);
     const uint32_t finished = intersectBlocksAnyOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>>(
-        bvh.set, bvh.blocks, firstBlock, blockCount, f.frameOf(rays), rays, mask, state);
+        bvh.set, bvh.blocks, firstBlock, blockCount, f.preparedFrames(), rays, mask, state);
     occluded |= finished;
     return finished;
   };

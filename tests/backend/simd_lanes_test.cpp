@@ -24,6 +24,11 @@ void sseLoadColumns(const float* rows, size_t stride, float* out) {
   simd::Float4Sse::loadColumns(rows, stride, columns);
   for (int c = 0; c < 4; ++c) columns[c].storeUnaligned(out + 4 * c);
 }
+void sseStoreColumns(const float* columns, float* rows, size_t stride) {
+  simd::Float4Sse c[4];
+  for (int k = 0; k < 4; ++k) c[k] = simd::Float4Sse::loadUnaligned(columns + 4 * k);
+  simd::Float4Sse::storeColumns(c, rows, stride);
+}
 void sseSelect(int mask, const float* a, const float* b, float* out) {
   select(mask, simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b)).storeUnaligned(out);
 }
@@ -53,6 +58,11 @@ void avxLoadColumns(const float* rows, size_t stride, float* out) {
   simd::Float8Avx columns[8];
   simd::Float8Avx::loadColumns(rows, stride, columns);
   for (int c = 0; c < 8; ++c) _mm256_storeu_ps(out + 8 * c, columns[c].v);
+}
+void avxStoreColumns(const float* columns, float* rows, size_t stride) {
+  simd::Float8Avx c[8];
+  for (int k = 0; k < 8; ++k) c[k].v = _mm256_loadu_ps(columns + 8 * k);
+  simd::Float8Avx::storeColumns(c, rows, stride);
 }
 void avxSelect(int mask, const float* a, const float* b, float* out) {
   _mm256_storeu_ps(out, select(mask, simd::Float8Avx{_mm256_loadu_ps(a)}, simd::Float8Avx{_mm256_loadu_ps(b)}).v);
@@ -196,6 +206,34 @@ void expectLoadColumnsMatchesReference(void (*simdLoadColumns)(const float*, siz
 TEST(SimdLanes, LoadColumnsMatchesTheScalarReference) {
   expectLoadColumnsMatchesReference<4>(sseLoadColumns);
   if (simd::cpuHasAvx2()) expectLoadColumnsMatchesReference<8>(avxLoadColumns);
+}
+
+// storeColumns, the inverse of loadColumns: lane i of column c lands at row i, place c of a strided
+// array, and nothing else of the array changes (the places past the N columns of each row keep
+// their values), in the SIMD types as in the reference.
+template <int N>
+void expectStoreColumnsMatchesReference(void (*simdStoreColumns)(const float*, float*, size_t)) {
+  constexpr size_t kStride = 10;  // a WatertightRay is ten words
+  float columns[N * N];
+  for (int i = 0; i < N * N; ++i) columns[i] = float(i) + 0.5f;
+  float simd[N * kStride], reference[N * kStride];
+  for (size_t i = 0; i < N * kStride; ++i) simd[i] = reference[i] = -float(i);
+  simdStoreColumns(columns, simd, kStride);
+  simd::FloatScalar<N> c[N];
+  for (int k = 0; k < N; ++k) c[k] = simd::FloatScalar<N>::load(columns + N * k);
+  simd::FloatScalar<N>::storeColumns(c, reference, kStride);
+  for (size_t row = 0; row < N; ++row)
+    for (size_t place = 0; place < kStride; ++place) {
+      const size_t at = row * kStride + place;
+      const float expected = place < N ? columns[place * N + row] : -float(at);
+      EXPECT_EQ(reference[at], expected) << "row " << row << " place " << place;
+      EXPECT_EQ(simd[at], expected) << "row " << row << " place " << place;
+    }
+}
+
+TEST(SimdLanes, StoreColumnsMatchesTheScalarReference) {
+  expectStoreColumnsMatchesReference<4>(sseStoreColumns);
+  if (simd::cpuHasAvx2()) expectStoreColumnsMatchesReference<8>(avxStoreColumns);
 }
 
 // select takes a's lane where the mask's bit is set, b's elsewhere, for every mask.
