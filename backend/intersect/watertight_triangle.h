@@ -19,16 +19,16 @@ struct WatertightAxisPair {
 inline constexpr WatertightAxisPair kWatertightOtherAxes[6] = {{1, 2}, {2, 1}, {2, 0}, {0, 2}, {0, 1}, {1, 0}};
 
 // Per-ray constants of the shear transform, computed once per ray.
-// The floats come first, in this order, and kx, ky adjacent, as watertightFramesOfLanes
-// (watertight_lanes.h) writes a lane group's frames: the seven floats by a transposed store, then
-// the axes.
+// The fields' order is the one watertightFramesOfLanes (watertight_lanes.h) writes a lane group's
+// frames in: the first eight words (the floats and kz) by a transposed store, then kx and ky as one
+// pair.
 struct WatertightRay {
   float Sx = 0.f, Sy = 0.f, Sz = 1.f;
   Vec3f org;
   // tnear * |dir[kz]|: the start of the segment as a distance along kz, with which the block tests
   // drop in float the candidates that certainly lie before it (certainlyBeforeNearLanes).
   float nearAlongKz = 0.f;
-  int kx = 0, ky = 1, kz = 2;
+  int kz = 2, kx = 0, ky = 1;
 
   WatertightRay() = default;
   // Always inlined: a kernel whose inliner budget ran out called the one copy the linker keeps,
