@@ -2,8 +2,9 @@
 // SIMD lanes (FN: the packet kernels' float type). Each lane makes the same comparisons, the same
 // choices and the same divisions as WatertightRay's constructor, so every frame is the one the
 // constructor makes, bit for bit. A packet's rays that reach leaves each made their frame alone:
-// a branchy choice of axes and three scalar divisions a ray, about an eighth of a coherent
-// rtcIntersect8 packet's instructions on the bunny (callgrind).
+// a branchy choice of axes and three scalar divisions a ray, about 230 of the 2,770 instructions a
+// coherent rtcIntersect8 packet took in the library on the bunny (callgrind, averaged over all
+// packets); made as lanes, the packets traced 1.03-1.04x as fast (paired ladder).
 // Templates only, included inside the per-ISA target regions like the kernels that use them.
 #pragma once
 

@@ -307,11 +307,12 @@ struct PacketLanes {
 // the bunny's coherent rtcIntersect8 packets took 21 instructions fewer a packet (callgrind) and
 // traced 1.005-1.014x as fast (paired ladder, both load orders). The rays go alone for the whole
 // packet when they do not share their direction signs, and wherever no more rays than the packet's
-// solo threshold enter an interior node, where sharing the node loads no longer pays. Packets whose origins lie close together
-// (camera rays, shadow rays from neighbouring hits) share nodes down to two rays: going alone at
-// two or four traced 2-7% slower on them since the packet's node test and pops went SIMD over the
-// rays. Packets whose origins spread over more than an eighth of the scene share little below the
-// top levels: they go alone at four rays (at one, incoherent shadow packets traced 8% slower).
+// solo threshold enter an interior node, where sharing the node loads no longer pays. Packets whose
+// origins lie close together (camera rays, shadow rays from neighbouring hits) share nodes down to
+// two rays: going alone at two or four traced 2-7% slower on them since the packet's node test and
+// pops went SIMD over the rays. Packets whose origins spread over more than an eighth of the scene
+// share little below the top levels: they go alone at four rays (at one, incoherent shadow packets
+// traced 8% slower).
 constexpr int kPacketSoloRaysClose = 1;
 constexpr int kPacketSoloRaysSpread = 4;
 constexpr float kPacketSpreadFraction = 0.125f;
