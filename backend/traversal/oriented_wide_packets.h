@@ -283,7 +283,9 @@ struct OrientedPacketRays {
 
 // The packet's walk: children near to far by the smallest entry among the rays entering them (the
 // lower lane first on ties, as the single-ray walk), rays dropped where their limit ends.
-// leafVisitor(firstBlock, blockCount, rays) and soloVisitor(node, rays) return the rays finished.
+// leafVisitor(firstBlock, blockCount, rays) and soloVisitor(node, rays) return the rays whose
+// segment they shortened (a hit): only those take their new limit (as walkWidePacket's closest-hit
+// walk).
 // kGroups: lanes.groups, as a constant (the loops over the groups unroll).
 template <typename FN, int kGroups, typename LeafVisitor, typename SoloVisitor>
 void walkOrientedPacketOf(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacketRays<FN>& lanes, const Ray* rays,
@@ -309,15 +311,14 @@ void walkOrientedPacketOf(const OrientedWideBvh<FN::kWidth>& bvh, OrientedPacket
   for (;;) {
     while (currentRays) {
       if (Codes::isLeaf(current)) {
-        active &= ~leafVisitor(Codes::leafFirstBlock(current), Codes::leafBlockCount(current), currentRays);
-        if (active == 0) return;
-        lanes.template refreshLimits<kGroups>(rays, currentRays);
+        const uint32_t shortened =
+            leafVisitor(Codes::leafFirstBlock(current), Codes::leafBlockCount(current), currentRays);
+        if (shortened) lanes.template refreshLimits<kGroups>(rays, shortened);
         break;
       }
       if (__builtin_popcount(currentRays) <= kOrientedSoloRays) {
-        active &= ~soloVisitor(current, currentRays);
-        if (active == 0) return;
-        lanes.template refreshLimits<kGroups>(rays, currentRays);
+        const uint32_t shortened = soloVisitor(current, currentRays);
+        if (shortened) lanes.template refreshLimits<kGroups>(rays, shortened);
         break;
       }
       const OrientedWideNode<N>& node = bvh.nodes[current];
@@ -409,26 +410,29 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
   if (live == 0) return 0;
   PacketFrames<FN> f(live);
   uint32_t found = 0;
+  // The leaf and solo visits return the rays they found a hit for (walkOrientedPacketOf).
   const auto blocksAlone = [&](uint32_t firstBlock, uint32_t blockCount, int r) {
-    if (intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
-                                                          f.triangleFrame(rays, r), rays[r], hits[r], state))
-      found |= 1u << r;
+    return intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
+                                                             f.triangleFrame(rays, r), rays[r], hits[r], state);
   };
   const auto leaf = [&](uint32_t firstBlock, uint32_t blockCount, uint32_t mask) {
     f.prepare(rays, mask);
-    found |= intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
+    const uint32_t hit = intersectBlocksClosestOfRays<F4, PairLanes<FN>, simd::DoubleLanes<FN>, true>(
         view.set, bvh.blocks.data(), firstBlock, blockCount, f.preparedFrames(), rays, hits, mask, state);
-    return 0u;
+    found |= hit;
+    return hit;
   };
   const auto solo = [&](uint32_t node, uint32_t mask) {
+    uint32_t hit = 0;
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
       walkOrientedAlone<FN>(view, node, rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
-        blocksAlone(firstBlock, blockCount, r);
+        if (blocksAlone(firstBlock, blockCount, r)) hit |= 1u << r;
         return false;
       });
     }
-    return 0u;
+    found |= hit;
+    return hit;
   };
   OrientedPacketRays<FN> lanes(bvh, rays, live);
   walkOrientedPacket<FN>(bvh, lanes, rays, live, leaf, solo);
