@@ -427,8 +427,9 @@ uint32_t intersectClosestOrientedWidePacketImpl(const TriangleOrientedWideView<F
     for (; mask; mask &= mask - 1) {
       const int r = __builtin_ctz(mask);
       walkOrientedAlone<FN>(view, node, rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
-        if (blocksAlone(firstBlock, blockCount, r)) hit |= 1u << r;
-        return false;
+        const bool shortened = blocksAlone(firstBlock, blockCount, r);
+        if (shortened) hit |= 1u << r;
+        return shortened;
       });
     }
     found |= hit;

@@ -190,9 +190,10 @@ template <typename FN, typename F4, bool kCounted, typename Nodes>
   const WatertightRay watertight = watertightRayFor(ray, view.set);
   bool found = false;
   walkOrientedTree<true, kCounted>(nodes, view, ray, state.coherent, [&](uint32_t firstBlock, uint32_t blockCount) __attribute__((always_inline)) {
-    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(view.set, bvh.blocks.data(), firstBlock, blockCount,
-                                                               watertight, ray, hit, state);
-    return false;
+    const bool shortened = intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(
+        view.set, bvh.blocks.data(), firstBlock, blockCount, watertight, ray, hit, state);
+    found |= shortened;
+    return shortened;
   }, counters);
   return found;
 }

@@ -414,10 +414,10 @@ bool intersectClosestWideImpl(const TriangleWideView<FN::kWidth>& bvh, Ray& ray,
   bool found = false;
   traverseWide<FN, true, kCounted, kSorted, kPredictLanes>(bvh, ray, [&](uint32_t firstBlock, uint32_t blockCount)
                                                                            __attribute__((always_inline)) {
-    found |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>, !kPredictLanes>(bvh.set, bvh.blocks, firstBlock,
-                                                                                blockCount, watertight.get(), ray, hit,
-                                                                                state);
-    return false;
+    const bool shortened = intersectBlocksClosest<F4, simd::DoubleLanes<FN>, !kPredictLanes>(
+        bvh.set, bvh.blocks, firstBlock, blockCount, watertight.get(), ray, hit, state);
+    found |= shortened;
+    return shortened;
   }, state.counters, watertight.maker(ray, bvh.set));
   return found;
 }

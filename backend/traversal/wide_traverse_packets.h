@@ -510,9 +510,10 @@ uint32_t intersectClosestWidePacketImpl(const TriangleWideView<FN::kWidth>& bvh,
     bool hit = false;
     const WideRayFrame<FN> frame(rays[r]);
     traverseWideFrom<FN, true>(bvh, start, frame, rays[r], [&](uint32_t firstBlock, uint32_t blockCount) {
-      hit |= intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(bvh.set, bvh.blocks, firstBlock, blockCount,
-                                                                f.triangleFrame(rays, r), rays[r], hits[r], state);
-      return false;
+      const bool shortened = intersectBlocksClosest<F4, simd::DoubleLanes<FN>>(
+          bvh.set, bvh.blocks, firstBlock, blockCount, f.triangleFrame(rays, r), rays[r], hits[r], state);
+      hit |= shortened;
+      return shortened;
     });
     return hit;
   };
