@@ -1,7 +1,8 @@
-// The shared single-ray walk's onEntering hook (wide_walk.h), on a hand-made tree whose nodes say
-// which children a ray enters: it runs exactly once, before the first leaf, once the start node
-// lets the ray in, and never for a ray that the start node turns away; the leaves are visited in
-// the same order as by the walk without the hook.
+// The shared single-ray walk (wide_walk.h) on hand-made trees whose nodes say which children a ray
+// enters. Its onEntering hook runs exactly once, before the first leaf, once the start node lets the
+// ray in, and never for a ray that the start node turns away; the leaves are visited in the same
+// order as by the walk without the hook. A closest-hit walk takes a new tfar into its limits after
+// a leaf that reports it shortened the ray, and only then; an any-hit walk stops at a report.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -37,13 +38,19 @@ struct FakeNodes {
   void count(uint32_t, TraversalCounters&) const {}
 };
 
-// The leaves' first blocks in visiting order, with the hook's calls marked as -1.
-std::vector<int> walkLog(const std::vector<FakeNode>& tree, uint32_t start, bool withHook) {
+// The segment [0, 100] along +x (the fake nodes decide what it enters).
+Ray rayAlongX() {
   Ray ray;
   ray.org = {0.f, 0.f, 0.f};
   ray.dir = {1.f, 0.f, 0.f};
   ray.tnear = 0.f;
   ray.tfar = 100.f;
+  return ray;
+}
+
+// The leaves' first blocks in visiting order, with the hook's calls marked as -1.
+std::vector<int> walkLog(const std::vector<FakeNode>& tree, uint32_t start, bool withHook) {
+  Ray ray = rayAlongX();
   std::vector<int> log;
   const auto visit = [&](uint32_t firstBlock, uint32_t) {
     log.push_back(int(firstBlock));
@@ -96,6 +103,45 @@ TEST(WalkOnEntering, NeverRunsForARayTheStartNodeTurnsAway) {
 TEST(WalkOnEntering, RunsBeforeAStartThatIsALeaf) {
   const std::vector<FakeNode> tree;
   EXPECT_EQ(walkLog(tree, leaf(3), true), (std::vector<int>{-1, 3}));
+}
+
+// Root: leaf 1 entered at 1, leaf 2 at 5. Leaf 1 sets tfar to newTfar and returns `report`.
+std::vector<int> limitLog(bool closest, float newTfar, bool report) {
+  const uint32_t empty = Codes::kEmptyChild;
+  const std::vector<FakeNode> tree = {
+      {{leaf(1), leaf(2), empty, empty}, 0b0011, {1.f, 5.f, 0.f, 0.f}},
+  };
+  Ray ray = rayAlongX();
+  std::vector<int> log;
+  const auto visit = [&](uint32_t firstBlock, uint32_t) {
+    log.push_back(int(firstBlock));
+    if (firstBlock != 1) return false;
+    ray.tfar = newTfar;
+    return report;
+  };
+  if (closest)
+    walkWideTree<kWidth, true, false>(FakeNodes{tree}, 0, ray, visit, nullptr);
+  else
+    walkWideTree<kWidth, false, false>(FakeNodes{tree}, 0, ray, visit, nullptr);
+  return log;
+}
+
+TEST(WalkLimits, ALeafThatShortensTheRayDropsTheChildrenBeyondIt) {
+  EXPECT_EQ(limitLog(true, 2.f, true), (std::vector<int>{1}));
+  // Entered exactly at the new tfar: only hits at that same distance could lie there (wide_walk.h).
+  EXPECT_EQ(limitLog(true, 5.f, true), (std::vector<int>{1}));
+  // Still within reach of the shortened ray.
+  EXPECT_EQ(limitLog(true, 6.f, true), (std::vector<int>{1, 2}));
+}
+
+TEST(WalkLimits, ALeafThatReportsNothingLeavesTheLimits) {
+  // The contract the closest-hit visitors keep: without a report the walk does not reread tfar.
+  EXPECT_EQ(limitLog(true, 2.f, false), (std::vector<int>{1, 2}));
+}
+
+TEST(WalkLimits, AnAnyHitWalkStopsAtAReport) {
+  EXPECT_EQ(limitLog(false, 100.f, true), (std::vector<int>{1}));
+  EXPECT_EQ(limitLog(false, 100.f, false), (std::vector<int>{1, 2}));
 }
 
 }  // namespace
