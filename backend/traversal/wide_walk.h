@@ -148,12 +148,11 @@ struct NothingOnEntering {
   void operator()() const {}
 };
 
-// Visits the leaves the ray enters. leafVisitor(firstBlock, blockCount) returns true, for a
-// closest-hit walk (kClosest), when the leaf shortened the ray (accepted a hit): only then does the
-// walk take the new tfar into its limits, which every leaf without a hit (most of them: a diffuse
-// bounce on the bunny visits about two leaves and hits in under a tenth of them) left unchanged;
-// for an any-hit walk, true stops the walk. kClosest: a closest-hit query, whose leaves shorten the
-// ray (any-hit queries stop instead).
+// Visits the leaves the ray enters. kClosest: a closest-hit query, whose leaves shorten the ray;
+// leafVisitor(firstBlock, blockCount) returns true when the leaf did (accepted a hit), and only then
+// does the walk take the new tfar into its limits, which a leaf without a hit (most of them: a
+// diffuse bounce on the bunny visits about two leaves and hits in under a tenth of them) leaves
+// unchanged. For an any-hit query, true stops the walk.
 // kSorted: the entered children of a node are visited near to far (closest hit's default); else in
 // the node's lane order (larger first, see the collapse), which any-hit queries use and closest-hit
 // ones may (device config child_order=fixed). kCounted adds volume tests and leaf visits to
