@@ -71,6 +71,10 @@ struct Float4Sse {
   friend int lessEqualMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v)); }
   friend int lessMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)); }
   friend int signMask(Float4Sse a) { return _mm_movemask_ps(a.v); }
+  // Lanes whose three values' sign bits are not all the same.
+  friend int unequalSignsMask(Float4Sse a, Float4Sse b, Float4Sse c) {
+    return _mm_movemask_ps(_mm_or_ps(_mm_xor_ps(a.v, b.v), _mm_xor_ps(a.v, c.v)));
+  }
   friend int equalMask(Float4Sse a, Float4Sse b) { return _mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v)); }
   // See FloatScalar::maxOfBits. SSE4.1 instructions: only the SSE4.2 and AVX2 kernels call them.
   __attribute__((target("sse4.1"))) friend Float4Sse maxOfBits(Float4Sse a, Float4Sse b) {

@@ -57,6 +57,9 @@ struct Float8Avx {
   OBVH_AVX2 friend int equalMask(Float8Avx a, Float8Avx b) { return _mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)); }
   OBVH_AVX2 friend Float8Avx abs(Float8Avx a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.f), a.v)}; }
   OBVH_AVX2 friend int signMask(Float8Avx a) { return _mm256_movemask_ps(a.v); }
+  OBVH_AVX2 friend int unequalSignsMask(Float8Avx a, Float8Avx b, Float8Avx c) {
+    return _mm256_movemask_ps(_mm256_or_ps(_mm256_xor_ps(a.v, b.v), _mm256_xor_ps(a.v, c.v)));
+  }
   // See FloatScalar::maxOfBits.
   OBVH_AVX2 friend Float8Avx maxOfBits(Float8Avx a, Float8Avx b) {
     return {_mm256_castsi256_ps(_mm256_max_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};

@@ -119,6 +119,14 @@ struct FloatScalar {
     for (int i = 0; i < N; ++i) m |= int(std::signbit(a.v[i])) << i;
     return m;
   }
+  friend int unequalSignsMask(FloatScalar a, FloatScalar b, FloatScalar c) {
+    int m = 0;
+    for (int i = 0; i < N; ++i) {
+      const bool sign = std::signbit(a.v[i]);
+      m |= int(std::signbit(b.v[i]) != sign || std::signbit(c.v[i]) != sign) << i;
+    }
+    return m;
+  }
   friend int equalMask(FloatScalar a, FloatScalar b) { return maskOf(a, b, [](float x, float y) { return x == y; }); }
   // The lanes' bit patterns as signed integers: ordered as the floats are among non-negative floats,
   // and every negative float (or -0, or NaN with the sign bit) below them. A box test whose entry

@@ -18,24 +18,28 @@
 namespace obvh {
 
 // The watertight test's edge functions U, V, W (weights of v0, v1, v2) for SIMD lanes that are
-// four triangles of one ray (blocks) or of each of two rays (triangle_block_pairs.h): the
-// vertices relative to the origin in the ray's (kx, ky, kz) order, sheared. Same operations and
-// order as the scalar test, so every lane rounds as it does.
+// four triangles of one ray (blocks) or of each of two rays (triangle_block_pairs.h), in the ray's
+// (kx, ky, kz) order and sheared, from the origin relative to each vertex (org - v): the negatives
+// of the scalar test's vertices relative to the origin, exactly (rounding is symmetric in sign),
+// so that the vertex is the subtraction's memory operand (nine loads a block fewer). U, V and W
+// are products of two such values and come out as the scalar test's floats; x, y and dz are the
+// negatives of its values.
 template <typename F>
 struct ShearedEdges {
-  F x[3], y[3];
-  F dz[3];  // the vertices' distances from the origin along kz (the dominant axis), unsheared
+  F x[3], y[3];  // org - v, sheared: the scalar test's sheared vertex coordinates, negated
+  F dz[3];       // org - v along kz (the dominant axis), unsheared
   F U, V, W;
 };
 
-template <typename F>
-[[gnu::always_inline]] inline ShearedEdges<F> shearedEdges(const F vertex[3][3], const F org[3], const F& sx,
+// vertex[k][a]: the lanes' vertex k along the frame's a-th axis; org: the origin along them.
+template <typename F, typename Vertex>
+[[gnu::always_inline]] inline ShearedEdges<F> shearedEdges(Vertex&& vertex, const F org[3], const F& sx,
                                                            const F& sy) {
   ShearedEdges<F> e;
   for (int k = 0; k < 3; ++k) {
-    const F dx = vertex[k][0] - org[0];
-    const F dy = vertex[k][1] - org[1];
-    const F dz = vertex[k][2] - org[2];
+    const F dx = org[0] - vertex(k, 0);
+    const F dy = org[1] - vertex(k, 1);
+    const F dz = org[2] - vertex(k, 2);
     e.x[k] = dx - sx * dz;
     e.y[k] = dy - sy * dz;
     e.dz[k] = dz;
@@ -54,18 +58,16 @@ struct EdgeVerdict {
   int recheck = 0;
 };
 
-// The three masks come from the lanes' smallest and largest edge function (a sign bit each) and
-// their product, instead of nine compares: where no value is zero or NaN they say what the compares
-// say. A zero (of either sign) makes the product zero, and such lanes are rechecked whatever their
-// signs; so is a lane whose product underflows to zero, which the recheck (the scalar test) answers
-// as the resolve path would. A NaN answers no hit either way: min and max may pass over it or over
-// a neighbour (they return their second operand for a NaN), and a lane they let through to be
-// resolved fails finishWatertightHit's U + V + W != 0.
+// The masks come from the edge functions' sign bits and their product, instead of nine compares:
+// where no value is zero or NaN they say what the compares say. A zero (of either sign) makes the
+// product zero, and such lanes are rechecked whatever their signs; so is a lane whose product
+// underflows to zero, which the recheck (the scalar test) answers as the resolve path would. A NaN
+// answers no hit either way: its sign bit says nothing, and a lane let through to be resolved
+// fails finishWatertightHit's U + V + W != 0.
 template <typename F>
 [[gnu::always_inline]] inline EdgeVerdict judgeEdges(const ShearedEdges<F>& e, int used) {
   const int anyZero = equalMask(e.U * e.V * e.W, F::broadcast(0.f));
-  const int anyNegative = signMask(min(min(e.U, e.V), e.W));
-  const int anyPositive = ~signMask(max(max(e.U, e.V), e.W));
+  const int mixedSigns = unequalSignsMask(e.U, e.V, e.W);
   EdgeVerdict verdict;
   verdict.recheck = anyZero & used;
   if (verdict.recheck) {
@@ -78,7 +80,7 @@ template <typename F>
                            (equalMask(e.x[2], e.x[0]) & equalMask(e.y[2], e.y[0]));
     verdict.recheck &= ~coincident;
   }
-  verdict.resolve = ~(anyNegative & anyPositive) & ~anyZero & used;
+  verdict.resolve = ~(mixedSigns | anyZero) & used;
   return verdict;
 }
 
@@ -114,13 +116,14 @@ template <typename F>
 template <typename F>
 [[gnu::always_inline]] inline int certainlyBeforeNearLanes(const ShearedEdges<F>& e, int negativeSz,
                                                            const F& nearAlongKz, int candidates) {
-  const F T = e.U * e.dz[0] + e.V * e.dz[1] + e.W * e.dz[2];
+  const F zero = F::broadcast(0.f);
+  // -T, from e.dz = org - v; the same float as T negated.
+  const F negT = e.U * e.dz[0] + e.V * e.dz[1] + e.W * e.dz[2];
   // The sign of t = T / det / dir[kz] (Sz = 1 / dir[kz] has dir[kz]'s sign), with U's sign for the
   // determinant's: a candidate's U, V and W share one sign, which their sum keeps. NaNs are dropped
-  // below.
+  // below, and so is T = 0 (whose sign bit says nothing).
   const int flip = signMask(e.U) ^ negativeSz;
-  const int negative = (signMask(T) ^ flip) & candidates;
-  const F zero = F::broadcast(0.f);
+  const int negative = ~(signMask(negT) ^ flip) & candidates;
   const int startsAhead = lessMask(zero, nearAlongKz) & candidates;  // tnear > 0: positive t may lie before it
   const int considered = negative | startsAhead;
   if (considered == 0) return 0;
@@ -135,9 +138,9 @@ template <typename F>
   const int certainDet = lessMask(detBound, abs(det));
   // Rays from tnear = 0 (camera rays, offset secondary rays): t < 0, that is q < -tBound, in fewer
   // operations.
-  if (startsAhead == 0) return negative & usableR & certainDet & lessMask(tBound, abs(T));
+  if (startsAhead == 0) return negative & usableR & certainDet & lessMask(tBound, abs(negT));
   // q + tBound, rounded up by 2^-20 of itself (a rounded sum keeps the exact sum's sign).
-  const F q = select(flip, zero - T, T);
+  const F q = select(flip, negT, zero - negT);
   const F reach = q + tBound;
   const F reachUp = reach + abs(reach) * F::broadcast(0x1p-20f);
   // tnear |dir[kz]| (|U + V + W| - detBound), rounded down by 2^-20 of itself; 0 (t < 0) for the
@@ -160,10 +163,9 @@ template <typename F4>
                                                                         const WatertightRay& wr, bool dropBehind) {
   const F4 org[3] = {F4::broadcast(wr.org[wr.kx]), F4::broadcast(wr.org[wr.ky]), F4::broadcast(wr.org[wr.kz])};
   const int axes[3] = {wr.kx, wr.ky, wr.kz};
-  F4 vertex[3][3];
-  for (int k = 0; k < 3; ++k)
-    for (int a = 0; a < 3; ++a) vertex[k][a] = F4::load(block.v[k][axes[a]]);
-  const ShearedEdges<F4> e = shearedEdges(vertex, org, F4::broadcast(wr.Sx), F4::broadcast(wr.Sy));
+  const ShearedEdges<F4> e = shearedEdges(
+      [&](int k, int a) __attribute__((always_inline)) { return F4::load(block.v[k][axes[a]]); }, org,
+      F4::broadcast(wr.Sx), F4::broadcast(wr.Sy));
   const EdgeVerdict verdict = judgeEdges(e, block.usedLanes());
   BlockCandidates c;
   c.resolve = verdict.resolve;
@@ -194,7 +196,8 @@ template <typename F8>
     org[i] = F8::halves(a.org[axes[i]], b.org[axes[i]]);
     for (int k = 0; k < 3; ++k) vertex[k][i] = F8::twice(block.v[k][axes[i]]);
   }
-  const ShearedEdges<F8> e = shearedEdges(vertex, org, F8::halves(a.Sx, b.Sx), F8::halves(a.Sy, b.Sy));
+  const ShearedEdges<F8> e = shearedEdges([&](int k, int i) __attribute__((always_inline)) { return vertex[k][i]; },
+                                          org, F8::halves(a.Sx, b.Sx), F8::halves(a.Sy, b.Sy));
   const EdgeVerdict verdict = judgeEdges(e, block.usedLanes() * 0x11);
   int resolve = verdict.resolve;
   const int dropping = resolve & ((dropBehindA ? 0x0F : 0) | (dropBehindB ? 0xF0 : 0));

@@ -41,6 +41,10 @@ void sseSelectBySign(const float* sign, const float* a, const float* b, float* o
   selectBySign(simd::Float4Sse::loadUnaligned(sign), simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b))
       .storeUnaligned(out);
 }
+int sseUnequalSignsMask(const float* a, const float* b, const float* c) {
+  return unequalSignsMask(simd::Float4Sse::loadUnaligned(a), simd::Float4Sse::loadUnaligned(b),
+                          simd::Float4Sse::loadUnaligned(c));
+}
 
 }  // namespace
 }  // namespace obvh
@@ -76,6 +80,10 @@ void avxSelectBySign(const float* sign, const float* a, const float* b, float* o
   _mm256_storeu_ps(out, selectBySign(simd::Float8Avx{_mm256_loadu_ps(sign)}, simd::Float8Avx{_mm256_loadu_ps(a)},
                                      simd::Float8Avx{_mm256_loadu_ps(b)})
                             .v);
+}
+int avxUnequalSignsMask(const float* a, const float* b, const float* c) {
+  return unequalSignsMask(simd::Float8Avx{_mm256_loadu_ps(a)}, simd::Float8Avx{_mm256_loadu_ps(b)},
+                          simd::Float8Avx{_mm256_loadu_ps(c)});
 }
 }  // namespace
 }  // namespace obvh
@@ -283,6 +291,42 @@ void expectSelectBySignMatchesReference(void (*simdSelectBySign)(const float*, c
 TEST(SimdLanes, SelectBySignMatchesTheScalarReference) {
   expectSelectBySignMatchesReference<4>(sseSelectBySign);
   if (simd::cpuHasAvx2()) expectSelectBySignMatchesReference<8>(avxSelectBySign);
+}
+
+// unequalSignsMask compares sign bits alone (the block test's edge functions, whose zero lanes are
+// judged apart): every triple of values from a set with both zeros, both infinities and NaNs of
+// both signs, lane by lane.
+template <int N>
+void expectUnequalSignsMaskMatchesReference(int (*simdUnequalSignsMask)(const float*, const float*, const float*)) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float values[8] = {2.f, -3.f, 0.f, -0.f, inf, -inf, nan, -nan};
+  float a[N], b[N], c[N];
+  int lane = 0, triples = 0;
+  const auto check = [&] {
+    int expected = 0;
+    for (int k = 0; k < lane; ++k)
+      expected |= int(std::signbit(a[k]) != std::signbit(b[k]) || std::signbit(a[k]) != std::signbit(c[k])) << k;
+    for (int k = lane; k < N; ++k) a[k] = b[k] = c[k] = 1.f;
+    EXPECT_EQ(simdUnequalSignsMask(a, b, c), expected);
+    EXPECT_EQ(unequalSignsMask(simd::FloatScalar<N>::load(a), simd::FloatScalar<N>::load(b),
+                               simd::FloatScalar<N>::load(c)),
+              expected);
+    lane = 0;
+  };
+  for (float x : values)
+    for (float y : values)
+      for (float z : values) {
+        a[lane] = x, b[lane] = y, c[lane] = z;
+        ++triples;
+        if (++lane == N) check();
+      }
+  if (lane) check();
+  EXPECT_EQ(triples, 512);
+}
+
+TEST(SimdLanes, UnequalSignsMaskMatchesTheScalarReference) {
+  expectUnequalSignsMaskMatchesReference<4>(sseUnequalSignsMask);
+  if (simd::cpuHasAvx2()) expectUnequalSignsMaskMatchesReference<8>(avxUnequalSignsMask);
 }
 
 }  // namespace
