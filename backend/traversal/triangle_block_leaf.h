@@ -31,7 +31,7 @@ struct ShearedEdges {
   F U, V, W;
 };
 
-// vertex[k][a]: the lanes' vertex k along the frame's a-th axis; org: the origin along them.
+// vertex(k, a): the lanes' vertex k along the frame's a-th axis; org: the origin along those axes.
 template <typename F, typename Vertex>
 [[gnu::always_inline]] inline ShearedEdges<F> shearedEdges(Vertex&& vertex, const F org[3], const F& sx,
                                                            const F& sy) {
@@ -191,13 +191,11 @@ template <typename F8>
                                                                    BlockCandidates& ca, BlockCandidates& cb) {
   static_assert(F8::kWidth == 8);
   const int axes[3] = {a.kx, a.ky, a.kz};
-  F8 org[3], vertex[3][3];
-  for (int i = 0; i < 3; ++i) {
-    org[i] = F8::halves(a.org[axes[i]], b.org[axes[i]]);
-    for (int k = 0; k < 3; ++k) vertex[k][i] = F8::twice(block.v[k][axes[i]]);
-  }
-  const ShearedEdges<F8> e = shearedEdges([&](int k, int i) __attribute__((always_inline)) { return vertex[k][i]; },
-                                          org, F8::halves(a.Sx, b.Sx), F8::halves(a.Sy, b.Sy));
+  F8 org[3];
+  for (int i = 0; i < 3; ++i) org[i] = F8::halves(a.org[axes[i]], b.org[axes[i]]);
+  const ShearedEdges<F8> e = shearedEdges(
+      [&](int k, int i) __attribute__((always_inline)) { return F8::twice(block.v[k][axes[i]]); }, org,
+      F8::halves(a.Sx, b.Sx), F8::halves(a.Sy, b.Sy));
   const EdgeVerdict verdict = judgeEdges(e, block.usedLanes() * 0x11);
   int resolve = verdict.resolve;
   const int dropping = resolve & ((dropBehindA ? 0x0F : 0) | (dropBehindB ? 0xF0 : 0));
