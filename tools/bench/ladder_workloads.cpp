@@ -18,7 +18,8 @@ std::vector<Workload> ladderWorkloads(const RtcLibrary& embree, RTCScene embreeS
                        shadowRaysTowardsSceneLight(workloads[0].rays, hits, box)});
   // The rest of the floor rows of the main bench (issue 4): camera and shadow rays with Embree's
   // coherence hint, diffuse bounces, and coherent rtcIntersect8 packets of perspective and of
-  // orthographic camera rays, with the main bench's rays.
+  // orthographic camera rays, with the main bench's rays; the perspective packets also copied one by
+  // one into a single packet, as an application that fills one packet on its stack traces them.
   constexpr RTCIntersectContextFlags kCoherent = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   workloads.push_back({"camera, hint", "camera-hint", TracedQuery::Intersect1, workloads[0].rays, kCoherent});
   workloads.push_back({"shadow, hint", "shadow-hint", TracedQuery::Occluded1, workloads[3].rays, kCoherent});
@@ -26,6 +27,8 @@ std::vector<Workload> ladderWorkloads(const RtcLibrary& embree, RTCScene embreeS
   workloads.push_back({"packets of 8, hint", "packets8-hint", TracedQuery::Intersect8, workloads[0].rays, kCoherent});
   workloads.push_back({"orthographic packets of 8, hint", "packets8-ortho", TracedQuery::Intersect8,
                        orthographicRays(box, 1024, 768), kCoherent});
+  workloads.push_back({"packets of 8 from one slot, hint", "packets8-slot", TracedQuery::Intersect8OneSlot,
+                       workloads[0].rays, kCoherent});
   return workloads;
 }
 
