@@ -25,13 +25,14 @@ struct ProbeOptions {
   int repeat = 10;
   size_t randomRays = 1 << 20;
   std::string config;  // the device config after threads=1
+  bool counts = false;  // one more pass, counted: volume tests and leaf visits a ray (obvh, single rays)
 };
 
 [[noreturn]] void usage(const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "obvh_bench probe: %s\n\n", error.c_str());
   std::fprintf(stderr,
                "usage: obvh_bench probe [--library obvh|embree|PATH] [--scene FILE] [--workload KEY] [--repeat N]\n"
-               "                        [--random-rays N] [--config DEVICE_CONFIG]\n"
+               "                        [--random-rays N] [--config DEVICE_CONFIG] [--counts on]\n"
                "  Traces one of the ladder's workloads with one library on one thread, N times over (default\n"
                "  10), and prints the best pass in Mrays/s: a steady loop for profilers. The passes run inside\n"
                "  obvh::tools::traceProbeRepeats, so callgrind can count only them, e.g.\n"
@@ -40,7 +41,9 @@ struct ProbeOptions {
                "  packets8-hint, packets8-ortho, packets8-slot (the ladder's rows, the same rays).\n"
                "  --library: obvh (the drop-in built beside this tool, default), embree (Debian's), or the\n"
                "  path of another build's libembree3.so.3.\n"
-               "  --config: appended to the device config threads=1 (e.g. intersector=fast).\n");
+               "  --config: appended to the device config threads=1 (e.g. intersector=fast).\n"
+               "  --counts on: after the timed passes, one pass counted through obvh's traversal statistics\n"
+               "  (obvh only; single-ray queries): bounding-volume tests and leaf visits a ray.\n");
   std::exit(error.empty() ? 0 : 2);
 }
 
@@ -53,6 +56,10 @@ ProbeOptions parse(int argc, char** argv) {
     else if (arg == "--repeat") o.repeat = int(positive(100000));
     else if (arg == "--random-rays") o.randomRays = size_t(positive(100000000));
     else if (arg == "--config") o.config = value;
+    else if (arg == "--counts") {
+      if (value != "on" && value != "off") usage("--counts takes on or off");
+      o.counts = value == "on";
+    }
     else usage("unknown option " + arg);
   });
   return o;
@@ -66,6 +73,24 @@ ProbeOptions parse(int argc, char** argv) {
   for (int pass = 0; pass < repeat; ++pass)
     best = std::max(best, traceQueryMrays(lib, scene, workload.query, workload.rays, workload.flags));
   return best;
+}
+
+// One pass with the calling thread's traversal statistics on (obvh's extension), per ray.
+void printCounts(const RtcLibrary& lib, RTCScene scene, const Workload& workload) {
+  if (!lib.obvhEnableTraversalStatistics)
+    throw std::runtime_error("--counts: " + lib.label + " has no traversal statistics (not obvh)");
+  lib.obvhEnableTraversalStatistics(1);
+  traceQueryMrays(lib, scene, workload.query, workload.rays, workload.flags);
+  ObvhTraversalStatistics statistics{};
+  lib.obvhTakeTraversalStatistics(&statistics);
+  lib.obvhEnableTraversalStatistics(0);
+  if (statistics.boundingVolumeTests == 0 && statistics.leafVisits == 0) {
+    std::printf("obvh_bench probe: counted pass: nothing counted (the statistics count single-ray queries only)\n");
+    return;
+  }
+  const double rays = double(workload.rays.size());
+  std::printf("obvh_bench probe: counted pass: %.3f bounding-volume tests and %.3f leaf visits a ray\n",
+              double(statistics.boundingVolumeTests) / rays, double(statistics.leafVisits) / rays);
 }
 
 int runProbeReport(int argc, char** argv) {
@@ -101,6 +126,7 @@ int runProbeReport(int argc, char** argv) {
         throw std::runtime_error(lib->label + ": committing " + data.name + " failed");
       rays = workload->rays.size();
       mrays = traceProbeRepeats(*lib, traced.scene(), *workload, options.repeat);
+      if (options.counts) printCounts(*lib, traced.scene(), *workload);
     }
     lib->rtcReleaseDevice(device);
     embree->rtcReleaseDevice(embreeDevice);
