@@ -75,19 +75,18 @@ ProbeOptions parse(int argc, char** argv) {
   return best;
 }
 
-// One pass with the calling thread's traversal statistics on (obvh's extension), per ray.
+// One pass with the calling thread's traversal statistics on (obvh's extension), per ray. The
+// statistics count rtcIntersect1 and rtcOccluded1 only.
 void printCounts(const RtcLibrary& lib, RTCScene scene, const Workload& workload) {
-  if (!lib.obvhEnableTraversalStatistics)
-    throw std::runtime_error("--counts: " + lib.label + " has no traversal statistics (not obvh)");
+  if (workload.query != TracedQuery::Intersect1 && workload.query != TracedQuery::Occluded1) {
+    std::printf("obvh_bench probe: counted pass: not made (the statistics count rtcIntersect1 and rtcOccluded1 only)\n");
+    return;
+  }
   lib.obvhEnableTraversalStatistics(1);
   traceQueryMrays(lib, scene, workload.query, workload.rays, workload.flags);
   ObvhTraversalStatistics statistics{};
   lib.obvhTakeTraversalStatistics(&statistics);
   lib.obvhEnableTraversalStatistics(0);
-  if (statistics.boundingVolumeTests == 0 && statistics.leafVisits == 0) {
-    std::printf("obvh_bench probe: counted pass: nothing counted (the statistics count single-ray queries only)\n");
-    return;
-  }
   const double rays = double(workload.rays.size());
   std::printf("obvh_bench probe: counted pass: %.3f bounding-volume tests and %.3f leaf visits a ray\n",
               double(statistics.boundingVolumeTests) / rays, double(statistics.leafVisits) / rays);
@@ -107,6 +106,8 @@ int runProbeReport(int argc, char** argv) {
       if (!other) throw std::runtime_error(error);
       lib = other.get();
     }
+    if (options.counts && !lib->obvhEnableTraversalStatistics)
+      throw std::runtime_error("--counts: " + lib->label + " has no traversal statistics (not obvh)");
     const SceneData data = obvh::render::loadTriangleScene(options.scene);
     // Embree's scene seeds the secondary rays, as in the ladder.
     RTCDevice embreeDevice = embree->rtcNewDevice("threads=1");
