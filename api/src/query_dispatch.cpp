@@ -327,8 +327,16 @@ void withPacketWidth(unsigned N, Body&& body) {
 constexpr unsigned kRayRows = 12;
 constexpr unsigned kRayHitRows = kRayRows + 7 + RTC_MAX_INSTANCE_LEVEL_COUNT;
 
-[[gnu::always_inline]] inline void prefetchFollowingPacket(const void* packet, size_t bytes) {
-  prefetchBytes(static_cast<const char*>(packet) + bytes, bytes);
+// kRows rows of the packet's width (Width as for intersectInLaneGroups below): for Embree's
+// packet sizes the size is a constant and the probes unroll.
+template <unsigned kRows, typename Width>
+[[gnu::always_inline]] inline void prefetchFollowingPacket(const void* packet, Width width) {
+  const size_t bytes = size_t(kRows) * unsigned(width) * sizeof(float);
+  const char* following = static_cast<const char*>(packet) + bytes;
+  if constexpr (std::is_integral_v<Width>)
+    prefetchBytes(following, bytes);
+  else
+    prefetchBytes<size_t(kRows) * Width::value * sizeof(float)>(following);
 }
 
 // A packet of N lanes in groups of up to kMaxPacketSize live lanes: trace(rays, hits, live) traces
@@ -340,7 +348,7 @@ void intersectInLaneGroups(const int* valid, RTCRayHitN* packet, Width width, bo
   const unsigned N = width;
   RTCRayN* rayN = RTCRayHitN_RayN(packet, N);
   RTCHitN* hitN = RTCRayHitN_HitN(packet, N);
-  prefetchFollowingPacket(packet, kRayHitRows * N * sizeof(float));
+  prefetchFollowingPacket<kRayHitRows>(packet, width);
   for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
     const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
     UninitializedArray<Ray, kMaxPacketSize> rays;  // written in groups of lanes holding a live one
@@ -358,7 +366,7 @@ void intersectInLaneGroups(const int* valid, RTCRayHitN* packet, Width width, bo
 template <typename Width, typename Trace>
 void occludedInLaneGroups(const int* valid, RTCRayN* rayN, Width width, bool masksOn, Trace&& trace) {
   const unsigned N = width;
-  prefetchFollowingPacket(rayN, kRayRows * N * sizeof(float));
+  prefetchFollowingPacket<kRayRows>(rayN, width);
   for (unsigned first = 0; first < N; first += unsigned(kMaxPacketSize)) {
     const unsigned count = std::min(N - first, unsigned(kMaxPacketSize));
     UninitializedArray<Ray, kMaxPacketSize> rays;

@@ -16,4 +16,17 @@ namespace obvh {
   for (uintptr_t line = first; line <= last; line += kLine) __builtin_prefetch(reinterpret_cast<const void*>(line), 0, 3);
 }
 
+// Every cache line of [p, p + kBytes), for a size known when compiling: the probes unroll into bare
+// prefetch instructions, one a line, where the loop above takes four a line (a packet of eight
+// rays and hits, ten or eleven lines: 42 instructions, callgrind). A probe every 64 bytes from p
+// reaches the lines from p's on, and one at the last byte the line it may leave when p is not
+// line-aligned.
+template <size_t kBytes>
+[[gnu::always_inline]] inline void prefetchBytes(const void* p) {
+  static_assert(kBytes > 0);
+  const char* bytes = static_cast<const char*>(p);
+  for (size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(bytes + offset, 0, 3);
+  __builtin_prefetch(bytes + kBytes - 1, 0, 3);
+}
+
 }  // namespace obvh
