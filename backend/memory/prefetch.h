@@ -24,9 +24,9 @@ namespace obvh {
 template <size_t kBytes>
 [[gnu::always_inline]] inline void prefetchBytes(const void* p) {
   static_assert(kBytes > 0);
-  const char* bytes = static_cast<const char*>(p);
-  for (size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(bytes + offset, 0, 3);
-  __builtin_prefetch(bytes + kBytes - 1, 0, 3);
+  const char* start = static_cast<const char*>(p);
+  for (size_t offset = 0; offset < kBytes; offset += 64) __builtin_prefetch(start + offset, 0, 3);
+  __builtin_prefetch(start + kBytes - 1, 0, 3);
 }
 
 }  // namespace obvh
