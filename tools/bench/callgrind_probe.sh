@@ -2,8 +2,10 @@
 # Counts the instructions of `obvh_bench probe` under callgrind, only inside the timed passes
 # (traceProbeRepeats), and prints the count. Arguments go to the probe, e.g.
 #   tools/bench/callgrind_probe.sh --library embree --workload diffuse --repeat 1
+# OBVH_CALLGRIND_OUT=FILE keeps callgrind's profile (for callgrind_annotate); by default it is
+# dropped. OBVH_BENCH=PATH takes another build's obvh_bench.
 # Why a stand-in library: obvh_bench links OpenImageIO, which loads Debian's libhwy (through
-# libjxl). On some CPUs (seen on an AMD EPYC reporting model 2) libhwy's load-time constructor
+# libjxl). On some CPUs (seen on an AMD EPYC of family 26, Zen 5) libhwy's load-time constructor
 # executes RDTSCP, which valgrind 3.19 cannot decode: the run dies with SIGILL before main. The
 # probe never writes an image, so an empty libhwy.so.1 put first on the library path is enough.
 set -euo pipefail
