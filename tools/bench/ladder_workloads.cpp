@@ -29,6 +29,8 @@ std::vector<Workload> ladderWorkloads(const RtcLibrary& embree, RTCScene embreeS
                        orthographicRays(box, 1024, 768), kCoherent});
   workloads.push_back({"packets of 8 from one slot, hint", "packets8-slot", TracedQuery::Intersect8OneSlot,
                        workloads[0].rays, kCoherent});
+  // The main bench's coherent stream row, with its rays (not a floor row of issue 4).
+  workloads.push_back({"streams of 64, hint", "streams64-hint", TracedQuery::Intersect1M, workloads[0].rays, kCoherent});
   return workloads;
 }
 

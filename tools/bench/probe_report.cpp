@@ -38,7 +38,7 @@ struct ProbeOptions {
                "  obvh::tools::traceProbeRepeats, so callgrind can count only them, e.g.\n"
                "    valgrind --tool=callgrind --toggle-collect='*traceProbeRepeats*' obvh_bench probe --repeat 1\n"
                "  --workload: primary, random, point, shadow, camera-hint, shadow-hint, diffuse (default),\n"
-               "  packets8-hint, packets8-ortho, packets8-slot (the ladder's rows, the same rays).\n"
+               "  packets8-hint, packets8-ortho, packets8-slot, streams64-hint (the ladder's rows, the same rays).\n"
                "  --library: obvh (the drop-in built beside this tool, default), embree (Debian's), or the\n"
                "  path of another build's libembree3.so.3.\n"
                "  --config: appended to the device config threads=1 (e.g. intersector=fast).\n"
